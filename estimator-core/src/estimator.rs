@@ -1,0 +1,486 @@
+//! Radial and axial immersion from per-tooth average forces (paper 000, eq. 10-13).
+//!
+//! Two measured ratios remove `R_a` and the force scale (method.md section 2):
+//! - motor route, `f_xt = F_ax / F_at` (feed motor gives `F_ax`, spindle motor `F_at`): the
+//!   product's main route, solved with the fitted polynomial of [`crate::poly`] and the
+//!   exact inversion where the polynomial does not apply;
+//! - dynamometer route, `f_x = F_ax / |(F_ax, F_ay)|`: the exact inversion, or the paper's
+//!   Table 3 on request.
+//!
+//! `R_a` then follows from eq. 13 with `K` at the estimated `t_a`: from `F_at` on the motor
+//! route (it never crosses zero, unlike `F_ax`), from the resultant `|(F_ax, F_ay)|` on the
+//! dynamometer route (eq. 13's two forms combined, again never zero).
+//!
+//! Config is checked once by [`EstimatorConfig::build`]; [`Estimator::estimate`] cannot fail:
+//! every outcome is a finite number with a [`Status`].
+
+use crate::coefficients::{CuttingCoefficients, TABLE2};
+use crate::forward::Operating;
+use crate::geometry::{MillingMode, Tool, RA_MAX, RR_MAX, RR_MIN};
+use crate::invert::{invert, Ratio};
+use crate::poly::FxtPoly;
+use crate::status::Status;
+use crate::{table3, ConfigError};
+
+/// Per-tooth average forces as measured, by route (sign conventions in [`crate::geometry`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Measured {
+    /// Feed force from the feed motor, tangential force from the spindle motor.
+    Motor {
+        /// `F_ax` [N].
+        fx_n: f32,
+        /// `F_at` [N].
+        ft_n: f32,
+    },
+    /// Feed and normal forces from a dynamometer.
+    Dynamometer {
+        /// `F_ax` [N].
+        fx_n: f32,
+        /// `F_ay` [N].
+        fy_n: f32,
+    },
+}
+
+/// How `R_r` is obtained from the ratio.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "lowercase"))]
+pub enum Solver {
+    /// Motor route: fitted polynomial, inversion outside its range. Dynamometer: inversion.
+    #[default]
+    Auto,
+    /// Motor route only: the fitted polynomial (inversion outside its range).
+    Polynomial,
+    /// Dynamometer route, down milling, Table 2 coefficients: the paper's Table 3.
+    Table3,
+    /// Exact inversion.
+    Inversion,
+}
+
+/// What actually produced `R_r`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "lowercase"))]
+pub enum Method {
+    /// Nothing (not cutting, bad input).
+    #[default]
+    None,
+    /// Fitted polynomial.
+    Polynomial,
+    /// Paper's Table 3.
+    Table3,
+    /// Exact inversion.
+    Inversion,
+}
+
+impl Method {
+    /// Short name for tables.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::None => "none",
+            Method::Polynomial => "polynomial",
+            Method::Table3 => "table3",
+            Method::Inversion => "inversion",
+        }
+    }
+}
+
+/// Estimator configuration, checked once by [`build`](Self::build).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct EstimatorConfig {
+    /// The cutter.
+    pub tool: Tool,
+    /// Cutting coefficients (eq. 9).
+    pub coeffs: CuttingCoefficients,
+    /// Milling mode.
+    pub mode: MillingMode,
+    /// Below this tangential force (motor route) or feed-plane resultant (dynamometer) [N]
+    /// the tool is taken as not cutting.
+    pub force_floor_n: f32,
+    /// How to solve for `R_r`.
+    pub solver: Solver,
+}
+
+impl Default for EstimatorConfig {
+    /// The paper's setting: R 8 mm, 4 flutes, down milling, Table 2.
+    fn default() -> Self {
+        EstimatorConfig {
+            tool: Tool::PAPER,
+            coeffs: TABLE2,
+            mode: MillingMode::Down,
+            force_floor_n: 2.0,
+            solver: Solver::Auto,
+        }
+    }
+}
+
+impl EstimatorConfig {
+    /// Validates and selects the fitted polynomial for these coefficients and mode, if any.
+    pub fn build(self) -> Result<Estimator, ConfigError> {
+        self.tool.validate()?;
+        self.coeffs.validate()?;
+        if !self.force_floor_n.is_finite() {
+            return Err(ConfigError::NonFinite("force_floor_n"));
+        }
+        if self.force_floor_n < 0.0 {
+            return Err(ConfigError::OutOfRange("force_floor_n"));
+        }
+        let poly = crate::fxt_poly::ALL
+            .iter()
+            .find(|p| p.fits(&self.coeffs, self.mode));
+        if self.solver == Solver::Polynomial && poly.is_none() {
+            return Err(ConfigError::NoPolynomial);
+        }
+        if self.solver == Solver::Table3
+            && (self.mode != MillingMode::Down || self.coeffs != TABLE2)
+        {
+            return Err(ConfigError::Table3NotApplicable);
+        }
+        Ok(Estimator { cfg: self, poly })
+    }
+}
+
+/// One estimate. All numbers finite; trust them only if `status.is_valid()`.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct Estimate {
+    /// Radial immersion ratio `R_r`.
+    pub rr: f32,
+    /// Axial immersion ratio `R_a`.
+    pub ra: f32,
+    /// Radial depth `d_r = R_r R` [mm].
+    pub dr_mm: f32,
+    /// Axial depth `d_a = R_a R` [mm].
+    pub da_mm: f32,
+    /// Average chip thickness at the estimate [mm].
+    pub t_a_mm: f32,
+    /// What the flags say.
+    pub status: Status,
+    /// What produced `R_r`.
+    pub method: Method,
+}
+
+/// A validated estimator. Stateless: `estimate` is a pure function of its inputs.
+#[derive(Clone, Copy, Debug)]
+pub struct Estimator {
+    cfg: EstimatorConfig,
+    poly: Option<&'static FxtPoly>,
+}
+
+impl Estimator {
+    /// The configuration it was built from.
+    pub fn config(&self) -> &EstimatorConfig {
+        &self.cfg
+    }
+
+    /// Whether a fitted polynomial is available for this configuration.
+    pub fn has_polynomial(&self) -> bool {
+        self.poly.is_some()
+    }
+
+    /// Estimates `R_r`, `R_a` from per-tooth average forces at feed per tooth `tc_mm`.
+    pub fn estimate(&self, tc_mm: f32, m: Measured) -> Estimate {
+        let (fx, other) = match m {
+            Measured::Motor { fx_n, ft_n } => (fx_n, ft_n),
+            Measured::Dynamometer { fx_n, fy_n } => (fx_n, fy_n),
+        };
+        if !(tc_mm.is_finite() && fx.is_finite() && other.is_finite()) || tc_mm <= 0.0 {
+            return Estimate {
+                status: Status::NON_FINITE,
+                ..Estimate::default()
+            };
+        }
+        let (ratio, magnitude) = match m {
+            Measured::Motor { ft_n, .. } => (Ratio::Fxt, ft_n),
+            Measured::Dynamometer { fx_n, fy_n } => (Ratio::Fx, libm::hypotf(fx_n, fy_n)),
+        };
+        // Written so that a NaN magnitude (cannot happen here, inputs are finite) also
+        // counts as not cutting.
+        let cutting = magnitude > self.cfg.force_floor_n && magnitude > 0.0;
+        if !cutting {
+            return Estimate {
+                status: Status::NOT_CUTTING,
+                ..Estimate::default()
+            };
+        }
+        let f = fx / magnitude;
+        let mut status = Status::VALID;
+        status.set_if(
+            !self.cfg.coeffs.tc_in_fit_range(tc_mm),
+            Status::TC_OUT_OF_RANGE,
+        );
+        let (rr, method) = self.solve_rr(ratio, f, tc_mm, &mut status);
+        let op = Operating::new(&self.cfg.coeffs, self.cfg.mode, rr, tc_mm);
+        let scale = op.force_scale_n(&self.cfg.tool, tc_mm);
+        let per_ra = match ratio {
+            Ratio::Fxt => scale * op.arc.c,
+            Ratio::Fx => {
+                let (a, b, r1) = (op.arc.a, op.arc.b, op.k.r1);
+                scale * libm::sqrtf((1.0 + r1 * r1) * (a * a + b * b))
+            }
+        };
+        let mut ra = magnitude / per_ra;
+        if !(0.0..=RA_MAX).contains(&ra) {
+            // Forces far beyond any cut the model knows (or a degenerate t_a): saturate.
+            status |= Status::RA_CLAMPED;
+            ra = if ra > 0.0 { RA_MAX } else { 0.0 };
+        }
+        let r = self.cfg.tool.radius_mm;
+        Estimate {
+            rr,
+            ra,
+            dr_mm: rr * r,
+            da_mm: ra * r,
+            t_a_mm: if op.t_a_mm.is_finite() {
+                op.t_a_mm
+            } else {
+                0.0
+            },
+            status,
+            method,
+        }
+    }
+
+    /// `R_r` from the ratio value `f`, by the configured solver.
+    fn solve_rr(&self, ratio: Ratio, f: f32, tc_mm: f32, status: &mut Status) -> (f32, Method) {
+        let cfg = &self.cfg;
+        match (ratio, cfg.solver) {
+            (Ratio::Fxt, Solver::Auto | Solver::Polynomial) => {
+                if let Some(rr) = self.poly.and_then(|p| p.eval(f, tc_mm)) {
+                    return (rr.clamp(RR_MIN, RR_MAX), Method::Polynomial);
+                }
+            }
+            (Ratio::Fx, Solver::Table3) => {
+                let rr = table3::rr_from_fx(f, tc_mm, table3::Branch::Auto);
+                let clamped = rr.clamp(RR_MIN, RR_MAX);
+                status.set_if(!(rr == clamped), Status::RR_CLAMPED);
+                // A NaN cannot arise from finite f and t_c; guard anyway.
+                let clamped = if clamped.is_finite() { clamped } else { RR_MIN };
+                return (clamped, Method::Table3);
+            }
+            _ => {}
+        }
+        let inv = invert(&cfg.coeffs, cfg.mode, ratio, f, tc_mm);
+        *status |= inv.status;
+        (inv.rr, Method::Inversion)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{average_forces, Engagement};
+
+    fn est(mode: MillingMode) -> Estimator {
+        EstimatorConfig {
+            mode,
+            ..Default::default()
+        }
+        .build()
+        .unwrap()
+    }
+
+    fn motor(mode: MillingMode, rr: f32, ra: f32, tc: f32) -> Measured {
+        let f = average_forces(
+            &Tool::PAPER,
+            &TABLE2,
+            mode,
+            Engagement { rr, ra, tc_mm: tc },
+        );
+        Measured::Motor {
+            fx_n: f.fx_n,
+            ft_n: f.ft_n,
+        }
+    }
+
+    fn is_finite(e: &Estimate) -> bool {
+        [e.rr, e.ra, e.dr_mm, e.da_mm, e.t_a_mm]
+            .iter()
+            .all(|v| v.is_finite())
+    }
+
+    #[test]
+    fn paper_cut_is_valid() {
+        let e =
+            est(MillingMode::Down).estimate(0.2083, motor(MillingMode::Down, 0.25, 0.75, 0.2083));
+        assert!(e.status.is_valid(), "{}", e.status);
+        assert!(
+            (e.dr_mm - 2.0).abs() < 0.02 && (e.da_mm - 6.0).abs() < 0.06,
+            "{e:?}"
+        );
+    }
+
+    #[test]
+    fn non_finite_inputs_are_flagged_not_propagated() {
+        let e = est(MillingMode::Down);
+        let good = 100.0;
+        for (tc, a, b) in [
+            (f32::NAN, -10.0, good),
+            (0.1, f32::NAN, good),
+            (0.1, -10.0, f32::INFINITY),
+            (f32::NEG_INFINITY, -10.0, good),
+            (0.0, -10.0, good),
+            (-0.1, -10.0, good),
+        ] {
+            for m in [
+                Measured::Motor { fx_n: a, ft_n: b },
+                Measured::Dynamometer { fx_n: a, fy_n: b },
+            ] {
+                let r = e.estimate(tc, m);
+                assert_eq!(r.status, Status::NON_FINITE, "{tc} {m:?}");
+                assert!(is_finite(&r));
+            }
+        }
+    }
+
+    #[test]
+    fn forces_below_the_floor_are_not_cutting() {
+        let e = est(MillingMode::Down);
+        for ft in [0.0, 1.0, -50.0] {
+            let r = e.estimate(
+                0.1,
+                Measured::Motor {
+                    fx_n: -0.5,
+                    ft_n: ft,
+                },
+            );
+            assert_eq!(r.status, Status::NOT_CUTTING, "ft {ft}");
+            assert_eq!((r.rr, r.ra), (0.0, 0.0));
+        }
+        let r = e.estimate(
+            0.1,
+            Measured::Dynamometer {
+                fx_n: 1.0,
+                fy_n: -1.0,
+            },
+        );
+        assert_eq!(r.status, Status::NOT_CUTTING);
+    }
+
+    #[test]
+    fn impossible_ratios_are_clamped_and_flagged() {
+        let e = est(MillingMode::Down);
+        // Feed force pulling harder than the tangential force: no R_r does that (f_xt > -1).
+        let r = e.estimate(
+            0.2,
+            Measured::Motor {
+                fx_n: -150.0,
+                ft_n: 100.0,
+            },
+        );
+        assert!(r.status.contains(Status::RR_CLAMPED));
+        assert!(r.rr >= crate::geometry::RR_MIN && r.rr < 0.01 && is_finite(&r));
+        // Feed force above what a slot gives (r1 pi / 4 ~ 0.3).
+        let r = e.estimate(
+            0.2,
+            Measured::Motor {
+                fx_n: 90.0,
+                ft_n: 100.0,
+            },
+        );
+        assert!(r.status.contains(Status::RR_CLAMPED));
+        assert_eq!(r.rr, 2.0);
+    }
+
+    #[test]
+    fn feed_outside_the_coefficients_range_is_flagged_but_estimated() {
+        let e = est(MillingMode::Down);
+        let r = e.estimate(0.03, motor(MillingMode::Down, 1.0, 1.0, 0.03));
+        assert_eq!(r.status, Status::TC_OUT_OF_RANGE);
+        assert!((r.rr - 1.0).abs() < 0.01);
+    }
+
+    #[test]
+    fn light_up_milling_cut_is_ambiguous() {
+        // f_xt turns over at light up-milling cuts (R_r ~ 0.1-0.25): two immersions give
+        // the same ratio there.
+        let e = est(MillingMode::Up);
+        let r = e.estimate(0.05, motor(MillingMode::Up, 0.3, 1.0, 0.05));
+        assert!(r.status.contains(Status::AMBIGUOUS), "{}", r.status);
+        assert!((r.rr - 0.3).abs() < 0.01, "{r:?}");
+        let r = e.estimate(0.2, motor(MillingMode::Up, 1.0, 1.0, 0.2));
+        assert!(r.status.is_valid(), "{}", r.status);
+    }
+
+    #[test]
+    fn arbitrary_inputs_never_give_nan() {
+        // A small LCG over wild magnitudes and signs; the estimator must stay finite.
+        let mut s = 0x1234_5678u32;
+        let mut next = || {
+            s = s.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            let mant = (s >> 8) as f32 / (1u32 << 24) as f32 * 2.0 - 1.0;
+            let exp = ((s & 0xff) as i32 % 60) - 30;
+            mant * libm::powf(10.0, exp as f32)
+        };
+        for mode in [MillingMode::Down, MillingMode::Up] {
+            let e = est(mode);
+            for _ in 0..3000 {
+                let (tc, a, b) = (next(), next(), next());
+                for m in [
+                    Measured::Motor { fx_n: a, ft_n: b },
+                    Measured::Dynamometer { fx_n: a, fy_n: b },
+                ] {
+                    let r = e.estimate(tc, m);
+                    assert!(is_finite(&r), "{tc} {m:?} -> {r:?}");
+                    assert!(r.rr >= 0.0 && r.rr <= 2.0 && r.ra >= 0.0);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn bad_configs_name_the_parameter() {
+        let mut c = EstimatorConfig::default();
+        c.tool.radius_mm = -1.0;
+        assert_eq!(c.build().unwrap_err(), ConfigError::OutOfRange("radius_mm"));
+        let mut c = EstimatorConfig::default();
+        c.coeffs.r1.k = f32::NAN;
+        assert_eq!(c.build().unwrap_err(), ConfigError::NonFinite("r1"));
+        let mut c = EstimatorConfig::default();
+        c.tool.flutes = 0;
+        assert_eq!(c.build().unwrap_err(), ConfigError::OutOfRange("flutes"));
+        let c = EstimatorConfig {
+            mode: MillingMode::Up,
+            solver: Solver::Table3,
+            ..Default::default()
+        };
+        assert_eq!(c.build().unwrap_err(), ConfigError::Table3NotApplicable);
+        let mut c = EstimatorConfig {
+            solver: Solver::Polynomial,
+            ..Default::default()
+        };
+        c.coeffs.ks.k = 700.0;
+        assert_eq!(c.build().unwrap_err(), ConfigError::NoPolynomial);
+    }
+
+    #[test]
+    fn other_coefficients_fall_back_to_inversion() {
+        let mut c = EstimatorConfig::default();
+        c.coeffs.ks.k = 700.0;
+        c.coeffs.r1.k = 0.3;
+        let e = c.build().unwrap();
+        let f = average_forces(
+            &c.tool,
+            &c.coeffs,
+            c.mode,
+            Engagement {
+                rr: 0.8,
+                ra: 1.0,
+                tc_mm: 0.2,
+            },
+        );
+        let r = e.estimate(
+            0.2,
+            Measured::Motor {
+                fx_n: f.fx_n,
+                ft_n: f.ft_n,
+            },
+        );
+        assert_eq!(r.method, Method::Inversion);
+        assert!(
+            (r.rr - 0.8).abs() < 1e-3 && (r.ra - 1.0).abs() < 1e-3,
+            "{r:?}"
+        );
+    }
+}

@@ -1,0 +1,155 @@
+//! Cutting geometry of peripheral end milling (paper 000, section 2; method.md section 1).
+//!
+//! # Sign conventions (the whole crate relies on these)
+//! - `x` is the feed direction, `y` normal to it in the tool plane, `z` the tool axis.
+//! - The immersion angle `phi` is measured so that the chip thickness is
+//!   `h(phi) = t_c sin(phi)`: a tooth cuts only for `phi` in `(0, pi)`.
+//! - Down (climb) milling: a tooth enters at `phi_en = acos(R_r - 1)` and leaves at `pi`
+//!   (thick chip at entry, zero at exit). Up (conventional) milling mirrors it: enters at
+//!   `0`, leaves at `acos(1 - R_r)`.
+//! - Elemental forces (eq. 1-3): `dF_x = dF_t cos(phi) + dF_r sin(phi)`,
+//!   `dF_y = -dF_t sin(phi) + dF_r cos(phi)`, `dF_z = dF_a`. With these, the average feed
+//!   force `F_ax` is negative for light down-milling cuts (the cutter pulls the work) and
+//!   positive in a slot.
+//!
+//! In both modes the engaged arc has the same length `acos(1 - R_r)`; only its position
+//! differs, which flips the sign of the `sin cos` integral `a` and nothing else.
+
+use core::f32::consts::PI;
+
+/// Which way the tooth meets the work.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "lowercase"))]
+pub enum MillingMode {
+    /// Climb milling: chip thick at entry, zero at exit (the paper's case).
+    #[default]
+    Down,
+    /// Conventional milling: chip zero at entry.
+    Up,
+}
+
+/// Flat end mill.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct Tool {
+    /// Tool radius `R` [mm].
+    pub radius_mm: f32,
+    /// Number of flutes `N`.
+    pub flutes: u8,
+    /// Helix angle `beta` [deg]; the per-tooth averages do not depend on it.
+    pub helix_deg: f32,
+}
+
+impl Tool {
+    /// The paper's tool: 16 mm diameter, 4 flutes; helix 30 deg (not stated in the paper).
+    pub const PAPER: Tool = Tool {
+        radius_mm: 8.0,
+        flutes: 4,
+        helix_deg: 30.0,
+    };
+
+    /// Tooth period `phi_N = 2 pi / N` [rad].
+    pub fn tooth_pitch_rad(&self) -> f32 {
+        2.0 * PI / self.flutes as f32
+    }
+
+    /// Checks the tool once, so that the per-sample code need not.
+    pub fn validate(&self) -> Result<(), crate::ConfigError> {
+        use crate::ConfigError::*;
+        if !self.radius_mm.is_finite() || !self.helix_deg.is_finite() {
+            return Err(NonFinite("tool"));
+        }
+        if self.radius_mm <= 0.0 {
+            return Err(OutOfRange("radius_mm"));
+        }
+        if self.flutes == 0 {
+            return Err(OutOfRange("flutes"));
+        }
+        if !(0.0..90.0).contains(&self.helix_deg) {
+            return Err(OutOfRange("helix_deg"));
+        }
+        Ok(())
+    }
+}
+
+/// Smallest radial immersion ratio the estimators resolve; below it chip thickness and the
+/// power-law coefficients run away (`t_a -> 0`).
+pub const RR_MIN: f32 = 1e-3;
+/// Largest axial immersion ratio reported (a flute length of 32 radii); beyond it the
+/// forces are not from a cut and `R_a` is clamped and flagged.
+pub const RA_MAX: f32 = 32.0;
+/// Full slot.
+pub const RR_MAX: f32 = 2.0;
+
+/// Length of the engaged arc `acos(1 - R_r)` [rad], the same for up and down milling.
+#[inline]
+pub fn engaged_arc_rad(rr: f32) -> f32 {
+    libm::acosf(1.0 - rr)
+}
+
+/// Entry and exit angles `(phi_st, phi_ex)` [rad] of a tooth.
+pub fn entry_exit_rad(mode: MillingMode, rr: f32) -> (f32, f32) {
+    let arc = engaged_arc_rad(rr);
+    match mode {
+        MillingMode::Down => (PI - arc, PI),
+        MillingMode::Up => (0.0, arc),
+    }
+}
+
+/// Average chip thickness over the engaged arc (eq. 8): `t_a = t_c R_r / arc` [mm].
+#[inline]
+pub fn average_chip_thickness_mm(tc_mm: f32, rr: f32, arc_rad: f32) -> f32 {
+    tc_mm * rr / arc_rad
+}
+
+/// `x - sin(x)`, accurate for small `x` where the difference cancels.
+fn x_minus_sin(x: f32) -> f32 {
+    if x < 0.25 {
+        let x2 = x * x;
+        // Taylor series to x^9: relative error below 1e-9 at x = 0.25.
+        x * x2 * (1.0 / 6.0 - x2 * (1.0 / 120.0 - x2 * (1.0 / 5040.0 - x2 / 362_880.0)))
+    } else {
+        x - libm::sinf(x)
+    }
+}
+
+/// The integrals over the engaged arc behind eq. 7, without the factor
+/// `tan(beta) / phi_N` that cancels in every force (the paper's `A_r = tan(beta)/phi_N * a`):
+/// `a = int sin cos`, `b = int sin^2`, `c = int sin`, plus the arc itself.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ArcIntegrals {
+    /// `int sin(t) cos(t) dt`: `(R_r^2 - 2 R_r)/2` down, its negative up.
+    pub a: f32,
+    /// `int sin^2(t) dt = (2 arc - sin(2 arc)) / 4`, both modes.
+    pub b: f32,
+    /// `int sin(t) dt = R_r`, both modes.
+    pub c: f32,
+    /// `int cos(t) dt`: `-sin(arc)` down, `sin(arc)` up (edge forces need it).
+    pub cos_int: f32,
+    /// Engaged arc [rad].
+    pub arc: f32,
+}
+
+impl ArcIntegrals {
+    /// Integrals for radial immersion ratio `rr` in `(0, 2]`.
+    pub fn new(mode: MillingMode, rr: f32) -> Self {
+        Self::from_arc(mode, rr, engaged_arc_rad(rr))
+    }
+
+    /// Same, with the arc already known (`arc = acos(1 - rr)`).
+    pub fn from_arc(mode: MillingMode, rr: f32, arc: f32) -> Self {
+        let a_down = 0.5 * rr * (rr - 2.0);
+        let (a, cos_int) = match mode {
+            MillingMode::Down => (a_down, -libm::sinf(arc)),
+            MillingMode::Up => (-a_down, libm::sinf(arc)),
+        };
+        ArcIntegrals {
+            a,
+            cos_int,
+            b: 0.25 * x_minus_sin(2.0 * arc),
+            c: rr,
+            arc,
+        }
+    }
+}

@@ -1,0 +1,57 @@
+//! estimator-core: the physics and the estimators shared by the firmware and host-sim.
+//!
+//! Data flows one way: samples -> forces -> tooth averages -> immersion -> alarms. This
+//! crate holds every stage; the firmware and host-sim only feed it. `no_std`, no heap,
+//! and nothing on the signal path can panic: bad input gives a flagged, finite result.
+//!
+//! - [`geometry`], [`coefficients`], [`forward`]: the mechanistic model of paper 000 (eq. 1-9).
+//! - [`estimator`]: immersion ratios from the averages (eq. 10-13), with [`invert`],
+//!   [`poly`] (fitted for the motor route, constants in [`fxt_poly`]) and [`table3`].
+//! - [`status`]: what every estimate carries.
+#![no_std]
+
+pub mod coefficients;
+pub mod conformance;
+pub mod estimator;
+pub mod forward;
+pub mod fxt_poly;
+pub mod geometry;
+pub mod invert;
+pub mod poly;
+pub mod status;
+pub mod table3;
+
+pub use coefficients::{CuttingCoefficients, LinearCoefficients, PowerLaw, TABLE2};
+pub use estimator::{Estimate, Estimator, EstimatorConfig, Measured, Method, Solver};
+pub use forward::{average_forces, average_forces_linear, AverageForces, Engagement};
+pub use geometry::{MillingMode, Tool};
+pub use status::Status;
+
+/// A configuration parameter that cannot be used, named.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ConfigError {
+    /// The named parameter is NaN or infinite.
+    NonFinite(&'static str),
+    /// The named parameter is outside its allowed range.
+    OutOfRange(&'static str),
+    /// `Solver::Polynomial` asked for, but no fitted set matches the coefficients and mode.
+    NoPolynomial,
+    /// `Solver::Table3` asked for outside down milling with Table 2 coefficients.
+    Table3NotApplicable,
+}
+
+impl core::fmt::Display for ConfigError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            ConfigError::NonFinite(p) => write!(f, "parameter `{p}` is not finite"),
+            ConfigError::OutOfRange(p) => write!(f, "parameter `{p}` is out of range"),
+            ConfigError::NoPolynomial => f.write_str(
+                "no fitted f_xt polynomial for these coefficients and milling mode \
+                 (regenerate with `host-sim gen-poly`, or use solver `inversion`)",
+            ),
+            ConfigError::Table3NotApplicable => f.write_str(
+                "Table 3 applies only to down milling with the paper's Table 2 coefficients",
+            ),
+        }
+    }
+}

@@ -1,0 +1,71 @@
+//! Fixed polynomial for `R_r` from the motor-current ratio `f_xt` (the product's main route).
+//!
+//! The paper gives coefficients only for the dynamometer ratio `f_x` (Table 3). For
+//! `f_xt = F_ax / F_at` they are fitted here, from the forward model, by the generator in
+//! host-sim (`host-sim gen-poly`), which writes [`crate::fxt_poly`]. Same family as eq. 11,
+//! two changes that make one set cover `t_c` 0.02-0.5 mm/tooth without the paper's split:
+//! the feed enters as `ln(t_c)` (the coefficients are power laws of `t_a`), and both
+//! variables are scaled to `[-1, 1]`:
+//!
+//! ```text
+//! x = (f_xt - x_mid) / x_half,  y = (ln t_c - y_mid) / y_half,  R_r = sum_ik c[i][k] x^i y^k
+//! ```
+//!
+//! A set is only valid for the coefficients and milling mode it was fitted for, inside its
+//! fitted `t_c` and `R_r` ranges; elsewhere the estimator falls back to the exact inversion.
+
+use crate::coefficients::CuttingCoefficients;
+use crate::geometry::MillingMode;
+
+/// Polynomial degree + 1 in each variable.
+pub const TERMS: usize = 6;
+
+/// One fitted set.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FxtPoly {
+    /// Coefficients the fit was made for.
+    pub coeffs: CuttingCoefficients,
+    /// Milling mode the fit was made for.
+    pub mode: MillingMode,
+    /// `(x_mid, x_half)` scaling of `f_xt`.
+    pub x_scale: (f32, f32),
+    /// `(y_mid, y_half)` scaling of `ln t_c`.
+    pub y_scale: (f32, f32),
+    /// Fitted feed range [mm/tooth].
+    pub tc_mm: (f32, f32),
+    /// Fitted radial immersion range; a result outside it is not trusted.
+    pub rr: (f32, f32),
+    /// `c[i][k]` multiplies `x^i y^k`.
+    pub c: [[f32; TERMS]; TERMS],
+}
+
+impl FxtPoly {
+    /// Whether this set was fitted for `coeffs` and `mode`.
+    pub fn fits(&self, coeffs: &CuttingCoefficients, mode: MillingMode) -> bool {
+        self.mode == mode && self.coeffs == *coeffs
+    }
+
+    /// The polynomial alone, without range checks.
+    pub fn eval_raw(&self, fxt: f32, tc_mm: f32) -> f32 {
+        let x = (fxt - self.x_scale.0) / self.x_scale.1;
+        let y = (libm::logf(tc_mm) - self.y_scale.0) / self.y_scale.1;
+        let mut rr = 0.0;
+        for row in self.c.iter().rev() {
+            let mut ci = 0.0;
+            for &ck in row.iter().rev() {
+                ci = ci * y + ck;
+            }
+            rr = rr * x + ci;
+        }
+        rr
+    }
+
+    /// `R_r` if `(fxt, tc_mm)` lies in the fitted domain, else `None`.
+    pub fn eval(&self, fxt: f32, tc_mm: f32) -> Option<f32> {
+        if !(tc_mm >= self.tc_mm.0 && tc_mm <= self.tc_mm.1) {
+            return None;
+        }
+        let rr = self.eval_raw(fxt, tc_mm);
+        (rr >= self.rr.0 && rr <= self.rr.1).then_some(rr)
+    }
+}

@@ -1,0 +1,241 @@
+//! host-sim: runs estimator-core on the desktop (see `host-sim --help`).
+
+use anyhow::{bail, Context, Result};
+use clap::{Parser, Subcommand, ValueEnum};
+use host_sim::{config, estimate, gen_poly};
+use std::fs::File;
+use std::io::{BufReader, BufWriter, Write};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+/// The committed polynomial file, found from this crate's source tree so that the command
+/// works from any directory of the checkout.
+fn fxt_poly_rs() -> PathBuf {
+    let host_sim = Path::new(env!("CARGO_MANIFEST_DIR"));
+    host_sim
+        .parent()
+        .unwrap_or(host_sim)
+        .join("estimator-core/src/fxt_poly.rs")
+}
+
+const ESTIMATE_HELP: &str = "\
+INPUT: CSV with a header line, one row per tooth period (per-tooth average forces).
+Columns, in any order; other columns are copied to the output unchanged:
+  tc_mm   feed per tooth [mm/tooth]
+  fx_n    average force in the feed direction F_ax [N], signed as in method.md eq. 7:
+          negative for light down-milling cuts (the cutter pulls the work), positive in a slot
+and either (motor route, the product's)
+  ft_n    average tangential force F_at [N] (spindle torque / tool radius)
+or (dynamometer route)
+  fy_n    average force normal to the feed F_ay [N]
+NaN or inf values are not errors: the row comes out with status non_finite.
+
+OUTPUT: the input columns, then
+  rr, ra        radial and axial immersion ratios R_r = d_r/R, R_a = d_a/R
+  dr_mm, da_mm  radial and axial depth of cut [mm]
+  status        `valid`, or flags joined by `|`: not_cutting, rr_clamped, ra_clamped,
+                tc_out_of_range, non_finite, ambiguous (trust a row only when valid)
+  method        what produced rr: polynomial, table3, inversion, none
+
+DEFAULTS (each can be changed in the --tool file): tool radius 8 mm, 4 flutes, helix 30 deg,
+down milling, the paper's Table 2 cutting coefficients, force floor 2 N, solver auto.
+Tool file example (every key optional; unknown keys are errors):
+  mode = \"up\"                  # or \"down\"
+  force_floor_n = 5.0
+  solver = \"inversion\"         # auto | polynomial | table3 | inversion
+  [tool]
+  radius_mm = 6.0
+  flutes = 3
+  helix_deg = 35.0
+  [coeffs]                     # K_s, r1, r2 = k * t_a^p, t_a in mm
+  ks = { k = 646.08, p = -0.4362 }
+  r1 = { k = 0.2201, p = -0.2667 }
+  r2 = { k = 0.1244, p = 0.1702 }
+  tc_fit_mm = [0.1042, 0.4667]";
+
+/// Desktop tools around the sensorless tool monitor's estimator.
+#[derive(Parser, Debug)]
+#[command(name = "host-sim", version)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Fit the f_xt polynomials from the forward model and write them as Rust constants.
+    GenPoly {
+        /// Cutting coefficients (TOML: ks = {k, p}, r1, r2, tc_fit_mm = [lo, hi]);
+        /// default: the paper's Table 2.
+        #[arg(long, value_name = "FILE")]
+        coeffs: Option<PathBuf>,
+        /// Where to write; default: estimator-core/src/fxt_poly.rs of this checkout.
+        #[arg(long, value_name = "FILE")]
+        output: Option<PathBuf>,
+        /// Compare with the file instead of writing it; fail if it is stale.
+        #[arg(long)]
+        check: bool,
+    },
+    /// Estimate radial and axial depth of cut from per-tooth average forces (CSV).
+    #[command(after_help = ESTIMATE_HELP)]
+    Estimate {
+        /// Per-tooth CSV (see below).
+        #[arg(long, value_name = "FILE")]
+        input: PathBuf,
+        /// Tool and cutting settings (TOML) overriding the defaults below.
+        #[arg(long, value_name = "FILE")]
+        tool: Option<PathBuf>,
+        /// Output CSV; default: standard output.
+        #[arg(long, value_name = "FILE")]
+        output: Option<PathBuf>,
+        /// How to solve for R_r; default: the tool file's, else auto (polynomial for the
+        /// motor route where it applies, exact inversion otherwise).
+        #[arg(long, value_enum)]
+        solver: Option<SolverArg>,
+        /// Which force pair to use; auto picks from the columns present.
+        #[arg(long, value_enum, default_value_t = RouteArg::Auto)]
+        route: RouteArg,
+    },
+}
+
+#[derive(Clone, Copy, Debug, ValueEnum)]
+enum SolverArg {
+    Auto,
+    Polynomial,
+    Table3,
+    Inversion,
+}
+
+impl From<SolverArg> for estimator_core::Solver {
+    fn from(s: SolverArg) -> Self {
+        use estimator_core::Solver;
+        match s {
+            SolverArg::Auto => Solver::Auto,
+            SolverArg::Polynomial => Solver::Polynomial,
+            SolverArg::Table3 => Solver::Table3,
+            SolverArg::Inversion => Solver::Inversion,
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum RouteArg {
+    Auto,
+    Motor,
+    Dynamometer,
+}
+
+impl From<RouteArg> for estimate::Route {
+    fn from(r: RouteArg) -> Self {
+        match r {
+            RouteArg::Auto => estimate::Route::Auto,
+            RouteArg::Motor => estimate::Route::Motor,
+            RouteArg::Dynamometer => estimate::Route::Dynamometer,
+        }
+    }
+}
+
+fn main() -> ExitCode {
+    match run(Cli::parse()) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            // `{:#}` puts the whole context chain on one line.
+            eprintln!("error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn run(cli: Cli) -> Result<()> {
+    match cli.command {
+        Command::GenPoly {
+            coeffs,
+            output,
+            check,
+        } => gen_poly_cmd(coeffs.as_deref(), output.as_deref(), check),
+        Command::Estimate {
+            input,
+            tool,
+            output,
+            solver,
+            route,
+        } => estimate_cmd(&input, tool.as_deref(), output.as_deref(), solver, route),
+    }
+}
+
+fn gen_poly_cmd(coeffs_file: Option<&Path>, output: Option<&Path>, check: bool) -> Result<()> {
+    let coeffs = config::load_coeffs(coeffs_file)?;
+    let command = match coeffs_file {
+        None => gen_poly::COMMAND.to_string(),
+        Some(p) => format!("{} --coeffs {}", gen_poly::COMMAND, p.display()),
+    };
+    let path = output.map_or_else(fxt_poly_rs, Path::to_path_buf);
+    let path = path.as_path();
+    let (text, fits) = gen_poly::generate(&coeffs, &command)?;
+    for f in &fits {
+        println!(
+            "{}: p95 {:.3} %, max {:.3} % (at R_r {}, t_c {} mm)",
+            f.spec.name,
+            f.quality.p95 * 100.0,
+            f.quality.max * 100.0,
+            f.quality.worst_at.0,
+            f.quality.worst_at.1
+        );
+    }
+    if check {
+        let on_disk = std::fs::read_to_string(path)
+            .with_context(|| format!("cannot read {}", path.display()))?;
+        if let Some((line, want, have)) = gen_poly::first_difference(&text, &on_disk) {
+            bail!(
+                "{} is stale (line {line}: generated `{}`, file has `{}`); regenerate with `{command}`",
+                path.display(),
+                want.trim(),
+                have.trim()
+            );
+        }
+        println!("{} is up to date", path.display());
+    } else {
+        std::fs::write(path, &text).with_context(|| format!("cannot write {}", path.display()))?;
+        println!("wrote {}", path.display());
+    }
+    Ok(())
+}
+
+fn estimate_cmd(
+    input: &Path,
+    tool: Option<&Path>,
+    output: Option<&Path>,
+    solver: Option<SolverArg>,
+    route: RouteArg,
+) -> Result<()> {
+    let mut cfg = config::load_estimator_config(tool)?;
+    if let Some(s) = solver {
+        cfg.solver = s.into();
+    }
+    let what = tool.map_or("default configuration".to_string(), |p| {
+        p.display().to_string()
+    });
+    let est = cfg.build().map_err(|e| anyhow::anyhow!("{what}: {e}"))?;
+    let file = input.display().to_string();
+    let rd = File::open(input).with_context(|| format!("cannot open {file}"))?;
+    let rd = BufReader::new(rd);
+    let summary = match output {
+        Some(p) => {
+            let w = File::create(p).with_context(|| format!("cannot create {}", p.display()))?;
+            estimate::run(rd, &file, BufWriter::new(w), &est, route.into())?
+        }
+        None => {
+            let out = std::io::stdout().lock();
+            let s = estimate::run(rd, &file, BufWriter::new(out), &est, route.into())?;
+            std::io::stdout().flush().context("writing the output")?;
+            s
+        }
+    };
+    eprintln!(
+        "{file}: {} rows, {} valid, {} flagged",
+        summary.rows,
+        summary.valid,
+        summary.rows - summary.valid
+    );
+    Ok(())
+}
