@@ -56,27 +56,7 @@ pub const TABLE2: CuttingCoefficients = CuttingCoefficients {
     tc_fit_mm: (0.1042, 0.4667),
 };
 
-/// `K_s`, `r1`, `r2` evaluated at one average chip thickness.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Specific {
-    /// [N/mm^2]
-    pub ks: f32,
-    /// radial / tangential
-    pub r1: f32,
-    /// axial / tangential
-    pub r2: f32,
-}
-
 impl CuttingCoefficients {
-    /// All three laws at `t_a_mm`.
-    pub fn at(&self, t_a_mm: f32) -> Specific {
-        Specific {
-            ks: self.ks.at(t_a_mm),
-            r1: self.r1.at(t_a_mm),
-            r2: self.r2.at(t_a_mm),
-        }
-    }
-
     /// Whether `tc_mm` lies in the range the laws were identified over.
     pub fn tc_in_fit_range(&self, tc_mm: f32) -> bool {
         tc_mm >= self.tc_fit_mm.0 && tc_mm <= self.tc_fit_mm.1

@@ -15,12 +15,17 @@
 //! every outcome is a finite number with a [`Status`].
 
 use crate::coefficients::{CuttingCoefficients, TABLE2};
-use crate::forward::Operating;
+use crate::forward::{Operating, Slopes};
 use crate::geometry::{MillingMode, Tool, RA_MAX, RR_MAX, RR_MIN};
 use crate::invert::{invert, Ratio};
 use crate::poly::FxtPoly;
 use crate::status::Status;
 use crate::{table3, ConfigError};
+
+/// The polynomial result is replaced by the exact inversion when a Newton step from it
+/// exceeds `POLY_CHECK_REL * R_r + POLY_CHECK_ABS`: three times the fit's worst error.
+const POLY_CHECK_REL: f32 = 0.02;
+const POLY_CHECK_ABS: f32 = 2e-3;
 
 /// Per-tooth average forces as measured, by route (sign conventions in [`crate::geometry`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -100,6 +105,10 @@ pub struct EstimatorConfig {
     pub force_floor_n: f32,
     /// How to solve for `R_r`.
     pub solver: Solver,
+    /// Relative 1-sigma gain uncertainty of each force channel from calibration (e.g. 0.02
+    /// for 2 %). A gain error does not average away (method.md section 2): it is added to
+    /// the scatter in every uncertainty.
+    pub gain_uncertainty: f32,
 }
 
 impl Default for EstimatorConfig {
@@ -111,6 +120,7 @@ impl Default for EstimatorConfig {
             mode: MillingMode::Down,
             force_floor_n: 2.0,
             solver: Solver::Auto,
+            gain_uncertainty: 0.0,
         }
     }
 }
@@ -125,6 +135,9 @@ impl EstimatorConfig {
         }
         if self.force_floor_n < 0.0 {
             return Err(ConfigError::OutOfRange("force_floor_n"));
+        }
+        if !(0.0..1.0).contains(&self.gain_uncertainty) {
+            return Err(ConfigError::OutOfRange("gain_uncertainty"));
         }
         let poly = crate::fxt_poly::ALL
             .iter()
@@ -153,6 +166,10 @@ pub struct Estimate {
     pub dr_mm: f32,
     /// Axial depth `d_a = R_a R` [mm].
     pub da_mm: f32,
+    /// 1-sigma uncertainty of `R_r` from the force scatter and the gain uncertainty.
+    pub rr_sigma: f32,
+    /// 1-sigma uncertainty of `R_a`.
+    pub ra_sigma: f32,
     /// Average chip thickness at the estimate [mm].
     pub t_a_mm: f32,
     /// What the flags say.
@@ -179,8 +196,15 @@ impl Estimator {
         self.poly.is_some()
     }
 
-    /// Estimates `R_r`, `R_a` from per-tooth average forces at feed per tooth `tc_mm`.
+    /// Estimates `R_r`, `R_a` from per-tooth average forces at feed per tooth `tc_mm`, with
+    /// the uncertainty from the gain uncertainty alone.
     pub fn estimate(&self, tc_mm: f32, m: Measured) -> Estimate {
+        self.estimate_with_scatter(tc_mm, m, [0.0, 0.0])
+    }
+
+    /// Same, with the 1-sigma scatter `[of F_ax, of the other force]` [N] of the averages,
+    /// propagated to first order through the model (`sigma_R = sigma_f / |df/dR|`).
+    pub fn estimate_with_scatter(&self, tc_mm: f32, m: Measured, sigma_n: [f32; 2]) -> Estimate {
         let (fx, other) = match m {
             Measured::Motor { fx_n, ft_n } => (fx_n, ft_n),
             Measured::Dynamometer { fx_n, fy_n } => (fx_n, fy_n),
@@ -210,15 +234,38 @@ impl Estimator {
             !self.cfg.coeffs.tc_in_fit_range(tc_mm),
             Status::TC_OUT_OF_RANGE,
         );
-        let (rr, method) = self.solve_rr(ratio, f, tc_mm, &mut status);
-        let op = Operating::new(&self.cfg.coeffs, self.cfg.mode, rr, tc_mm);
-        let scale = op.force_scale_n(&self.cfg.tool, tc_mm);
+        let coeffs = &self.cfg.coeffs;
+        let (mut rr, mut method) = self.solve_rr(ratio, f, tc_mm, &mut status);
+        let mut op = Operating::new(coeffs, self.cfg.mode, rr, tc_mm);
+        let mut slopes = op.slopes(coeffs, self.cfg.mode);
+        if method == Method::Polynomial {
+            // The exact model checks the polynomial on every call, at the price of a few
+            // multiplications (`op` is needed for R_a anyway): one Newton step's worth of
+            // disagreement beyond the fit's own error means the point lies outside the
+            // fitted domain (e.g. a ratio no immersion gives at this t_c).
+            let f_model = op.ratio_fxt();
+            let newton_step = (f - f_model) / slopes.dfxt_drr;
+            // At the slot (where the result was clamped) the ratio must not pass the slot's.
+            let beyond_slot = rr >= RR_MAX
+                && match self.cfg.mode {
+                    MillingMode::Down => f > f_model,
+                    MillingMode::Up => f < f_model,
+                };
+            status.set_if(beyond_slot, Status::RR_CLAMPED);
+            // (A NaN step fails the comparison: fall back then too.)
+            let trusted = newton_step.abs() <= POLY_CHECK_REL * rr + POLY_CHECK_ABS;
+            if !trusted {
+                let inv = invert(coeffs, self.cfg.mode, ratio, f, tc_mm);
+                status |= inv.status;
+                (rr, method) = (inv.rr, Method::Inversion);
+                op = Operating::new(coeffs, self.cfg.mode, rr, tc_mm);
+                slopes = op.slopes(coeffs, self.cfg.mode);
+            }
+        }
+        let scale = op.force_scale_n(coeffs, &self.cfg.tool, tc_mm);
         let per_ra = match ratio {
             Ratio::Fxt => scale * op.arc.c,
-            Ratio::Fx => {
-                let (a, b, r1) = (op.arc.a, op.arc.b, op.k.r1);
-                scale * libm::sqrtf((1.0 + r1 * r1) * (a * a + b * b))
-            }
+            Ratio::Fx => scale * op.resultant(),
         };
         let mut ra = magnitude / per_ra;
         if !(0.0..=RA_MAX).contains(&ra) {
@@ -226,12 +273,15 @@ impl Estimator {
             status |= Status::RA_CLAMPED;
             ra = if ra > 0.0 { RA_MAX } else { 0.0 };
         }
+        let (rr_sigma, ra_sigma) = self.propagate(&slopes, m, f, magnitude, sigma_n, ra);
         let r = self.cfg.tool.radius_mm;
         Estimate {
             rr,
             ra,
             dr_mm: rr * r,
             da_mm: ra * r,
+            rr_sigma,
+            ra_sigma,
             t_a_mm: if op.t_a_mm.is_finite() {
                 op.t_a_mm
             } else {
@@ -240,6 +290,73 @@ impl Estimator {
             status,
             method,
         }
+    }
+
+    /// First-order propagation of force scatter and gain uncertainty into `(sigma_R_r,
+    /// sigma_R_a)`: independent errors on the two channels, exact Jacobian (checked against
+    /// Monte Carlo in the tests).
+    fn propagate(
+        &self,
+        slopes: &Slopes,
+        m: Measured,
+        f: f32,
+        magnitude: f32,
+        sigma_n: [f32; 2],
+        ra: f32,
+    ) -> (f32, f32) {
+        let g = self.cfg.gain_uncertainty;
+        let [s0, s1] = sigma_n.map(|s| if s.is_finite() { s.abs() } else { 0.0 });
+        // Partial derivatives of the ratio and the magnitude with respect to both channels.
+        let (df_d0, df_d1, dm_d0, dm_d1, dln_per_ra, df_drr) = match m {
+            Measured::Motor { ft_n, .. } => (
+                1.0 / ft_n,
+                -f / ft_n,
+                0.0,
+                1.0,
+                slopes.dln_tangential_drr,
+                slopes.dfxt_drr,
+            ),
+            Measured::Dynamometer { fx_n, fy_n } => {
+                let m3 = magnitude * magnitude * magnitude;
+                (
+                    fy_n * fy_n / m3,
+                    -fx_n * fy_n / m3,
+                    fx_n / magnitude,
+                    fy_n / magnitude,
+                    slopes.dln_resultant_drr,
+                    slopes.dfx_drr,
+                )
+            }
+        };
+        let (v0, v1) = match m {
+            Measured::Motor { fx_n, ft_n } => (fx_n, ft_n),
+            Measured::Dynamometer { fx_n, fy_n } => (fx_n, fy_n),
+        };
+        // Each channel's total 1-sigma: scatter and gain error in quadrature.
+        let e0 = libm::hypotf(s0, g * v0);
+        let e1 = libm::hypotf(s1, g * v1);
+        let sigma_f = libm::hypotf(df_d0 * e0, df_d1 * e1);
+        // dR/df; a flat ratio (turning point, or NaN at a degenerate point) identifies
+        // nothing, an infinite slope (slot) pins R_r.
+        let (rr_sigma, dr_df) = if df_drr.is_infinite() {
+            (0.0, 0.0)
+        } else if df_drr.abs() > 0.0 {
+            ((sigma_f / df_drr.abs()).min(RR_MAX), 1.0 / df_drr)
+        } else {
+            (RR_MAX, 0.0)
+        };
+        // ln R_a = ln m(v0, v1) - ln per(R(f(v0, v1))): both channels move R_a directly and
+        // through R_r, with correlated effects; first order, exact Jacobian.
+        let k = if dln_per_ra.is_finite() {
+            dln_per_ra * dr_df
+        } else {
+            0.0
+        };
+        let d0 = dm_d0 / magnitude - k * df_d0;
+        let d1 = dm_d1 / magnitude - k * df_d1;
+        let ra_sigma = ra * libm::hypotf(d0 * e0, d1 * e1);
+        let finite_or = |v: f32, alt: f32| if v.is_finite() { v } else { alt };
+        (finite_or(rr_sigma, RR_MAX), finite_or(ra_sigma, RA_MAX))
     }
 
     /// `R_r` from the ratio value `f`, by the configured solver.
@@ -427,6 +544,72 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn reported_sigma_matches_monte_carlo_scatter() {
+        // 1 % independent Gaussian noise on both averaged forces: the first-order sigma the
+        // estimator reports must match the spread of the estimates it actually produces.
+        let mut s = 0x9e37_79b9u32;
+        let mut uniform = || {
+            s ^= s << 13;
+            s ^= s >> 17;
+            s ^= s << 5;
+            (s as f32 + 0.5) / 4_294_967_296.0
+        };
+        let mut gauss = || {
+            let (u1, u2) = (uniform(), uniform());
+            libm::sqrtf(-2.0 * libm::logf(u1)) * libm::cosf(2.0 * core::f32::consts::PI * u2)
+        };
+        for mode in [MillingMode::Down, MillingMode::Up] {
+            let e = est(mode);
+            for (rr, tc) in [(0.25, 0.1042), (0.75, 0.2083), (1.0, 0.1042), (1.5, 0.4167)] {
+                let Measured::Motor { fx_n, ft_n } = motor(mode, rr, 1.0, tc) else {
+                    unreachable!()
+                };
+                let sig = [0.01 * ft_n, 0.01 * ft_n];
+                let reported = e.estimate_with_scatter(tc, motor(mode, rr, 1.0, tc), sig);
+                let n = 4000;
+                let (mut m1, mut m2, mut a1, mut a2) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
+                for _ in 0..n {
+                    let m = Measured::Motor {
+                        fx_n: fx_n + sig[0] * gauss(),
+                        ft_n: ft_n + sig[1] * gauss(),
+                    };
+                    let r = e.estimate(tc, m);
+                    m1 += r.rr as f64;
+                    m2 += (r.rr as f64).powi(2);
+                    a1 += r.ra as f64;
+                    a2 += (r.ra as f64).powi(2);
+                }
+                let n = n as f64;
+                let sd_rr = (m2 / n - (m1 / n).powi(2)).sqrt();
+                let sd_ra = (a2 / n - (a1 / n).powi(2)).sqrt();
+                let q_rr = reported.rr_sigma as f64 / sd_rr;
+                let q_ra = reported.ra_sigma as f64 / sd_ra;
+                assert!(
+                    (0.8..1.25).contains(&q_rr) && (0.8..1.25).contains(&q_ra),
+                    "{mode:?} rr {rr} tc {tc}: reported/actual sigma R_r {q_rr:.2}, R_a {q_ra:.2}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn gain_uncertainty_widens_sigma() {
+        let m = motor(MillingMode::Down, 0.5, 1.0, 0.2);
+        let plain = est(MillingMode::Down).estimate(0.2, m);
+        assert_eq!((plain.rr_sigma, plain.ra_sigma), (0.0, 0.0));
+        let e = EstimatorConfig {
+            gain_uncertainty: 0.05,
+            ..Default::default()
+        }
+        .build()
+        .unwrap();
+        let r = e.estimate(0.2, m);
+        // method.md: a 5 % gain error moves R_r by 7-9 % at R_r = 0.5.
+        let rel = r.rr_sigma / r.rr;
+        assert!(rel > 0.05 && rel < 0.15, "sigma R_r / R_r = {rel}");
     }
 
     #[test]

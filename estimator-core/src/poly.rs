@@ -17,6 +17,10 @@
 use crate::coefficients::CuttingCoefficients;
 use crate::geometry::MillingMode;
 
+/// Relative margin on the `R_r` range accepted from the polynomial (its worst error is
+/// about 0.7 %).
+pub const RR_MARGIN: f32 = 0.03;
+
 /// Polynomial degree + 1 in each variable.
 pub const TERMS: usize = 6;
 
@@ -47,8 +51,13 @@ impl FxtPoly {
 
     /// The polynomial alone, without range checks.
     pub fn eval_raw(&self, fxt: f32, tc_mm: f32) -> f32 {
-        let x = (fxt - self.x_scale.0) / self.x_scale.1;
-        let y = (libm::logf(tc_mm) - self.y_scale.0) / self.y_scale.1;
+        self.eval_scaled(
+            (fxt - self.x_scale.0) / self.x_scale.1,
+            (libm::logf(tc_mm) - self.y_scale.0) / self.y_scale.1,
+        )
+    }
+
+    fn eval_scaled(&self, x: f32, y: f32) -> f32 {
         let mut rr = 0.0;
         for row in self.c.iter().rev() {
             let mut ci = 0.0;
@@ -62,10 +71,13 @@ impl FxtPoly {
 
     /// `R_r` if `(fxt, tc_mm)` lies in the fitted domain, else `None`.
     pub fn eval(&self, fxt: f32, tc_mm: f32) -> Option<f32> {
-        if !(tc_mm >= self.tc_mm.0 && tc_mm <= self.tc_mm.1) {
+        let x = (fxt - self.x_scale.0) / self.x_scale.1;
+        if !(tc_mm >= self.tc_mm.0 && tc_mm <= self.tc_mm.1 && (-1.0..=1.0).contains(&x)) {
             return None;
         }
-        let rr = self.eval_raw(fxt, tc_mm);
-        (rr >= self.rr.0 && rr <= self.rr.1).then_some(rr)
+        let rr = self.eval_scaled(x, (libm::logf(tc_mm) - self.y_scale.0) / self.y_scale.1);
+        // Both ends get the fit's own error as margin, so that a cut exactly at the edge
+        // (the slot, above all) is not pushed to the slower inversion; the caller clamps.
+        (rr >= self.rr.0 * (1.0 - RR_MARGIN) && rr <= self.rr.1 * (1.0 + RR_MARGIN)).then_some(rr)
     }
 }

@@ -27,8 +27,11 @@ type Law<'a> = &'a dyn Fn(f64) -> (f64, f64, f64);
 /// power-law coefficients held at `t_a` as eq. 7 does.
 fn brute_force(tool: &Tool, mode: MillingMode, e: Engagement, n_rot: usize, n_z: usize) -> Brute {
     let t_a = average_chip_thickness_mm(e.tc_mm, e.rr, engaged_arc_rad(e.rr));
-    let k = TABLE2.at(t_a);
-    let (ks, r1, r2) = (k.ks as f64, k.r1 as f64, k.r2 as f64);
+    let (ks, r1, r2) = (
+        TABLE2.ks.at(t_a) as f64,
+        TABLE2.r1.at(t_a) as f64,
+        TABLE2.r2.at(t_a) as f64,
+    );
     brute_force_law(tool, mode, e, n_rot, n_z, &|h| {
         (ks * h, r1 * ks * h, r2 * ks * h)
     })

@@ -210,7 +210,7 @@ fn fxt_rises_strictly_in_down_milling() {
         }
         // Limits from method.md: -1 as R_r -> 0, r1 pi / 4 in the slot.
         let slot = Operating::new(&TABLE2, MillingMode::Down, 2.0, tc);
-        assert!((slot.ratio_fxt() - slot.k.r1 * core::f32::consts::FRAC_PI_4).abs() < 1e-5);
+        assert!((slot.ratio_fxt() - slot.r1 * core::f32::consts::FRAC_PI_4).abs() < 1e-5);
         let light = Operating::new(&TABLE2, MillingMode::Down, RR_MIN, tc).ratio_fxt();
         // r1 b / c -> 0 only slowly (r1 grows as t_a^-0.27), hence the loose bound.
         assert!(light > -1.0 && light < -0.9, "tc {tc}: {light}");

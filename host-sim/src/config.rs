@@ -14,6 +14,22 @@ use estimator_core::{
 use serde::Deserialize;
 use std::path::Path;
 
+/// A tool file using every key, shown by `estimate --help` (and parsed by a test, so the
+/// help cannot drift from the format).
+pub const TOOL_FILE_EXAMPLE: &str = r#"mode = "up"                  # or "down"
+force_floor_n = 5.0          # N; below it: not cutting
+solver = "inversion"         # auto | polynomial | table3 | inversion
+[tool]
+radius_mm = 6.0
+flutes = 3
+helix_deg = 35.0
+[coeffs]                     # K_s, r1, r2 = k * t_a^p, t_a in mm
+ks = { k = 646.08, p = -0.4362 }
+r1 = { k = 0.2201, p = -0.2667 }
+r2 = { k = 0.1244, p = 0.1702 }
+tc_fit_mm = [0.1042, 0.4667]
+"#;
+
 /// `k * t_a^p`, both required.
 #[derive(Clone, Copy, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -122,12 +138,17 @@ impl ToolFile {
 fn read_toml<T: for<'de> Deserialize<'de>>(path: &Path) -> Result<T> {
     let text =
         std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+    parse_toml(&text, &path.display().to_string())
+}
+
+/// Parses TOML text; errors name `file` and the line.
+pub fn parse_toml<T: for<'de> Deserialize<'de>>(text: &str, file: &str) -> Result<T> {
     // toml's messages span several lines (a source excerpt); keep ours to one.
-    toml::from_str(&text).map_err(|e| {
-        let msg = e.message();
-        match e.span().map(|s| line_of(&text, s.start)) {
-            Some(line) => anyhow!("{} line {line}: {msg}", path.display()),
-            None => anyhow!("{}: {msg}", path.display()),
+    toml::from_str(text).map_err(|e| {
+        let msg = e.message().trim();
+        match e.span().map(|s| line_of(text, s.start)) {
+            Some(line) => anyhow!("{file} line {line}: {msg}"),
+            None => anyhow!("{file}: {msg}"),
         }
     })
 }
@@ -162,4 +183,51 @@ pub fn load_coeffs(path: Option<&Path>) -> Result<CuttingCoefficients> {
         .validate()
         .map_err(|e| anyhow!("{}: {e}", path.display()))?;
     Ok(coeffs)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn help_example_parses_and_sets_every_part() {
+        let f: ToolFile = parse_toml(TOOL_FILE_EXAMPLE, "example").expect("example parses");
+        let cfg = f.over(EstimatorConfig::default());
+        assert_eq!(cfg.mode, MillingMode::Up);
+        assert_eq!(cfg.solver, Solver::Inversion);
+        assert_eq!(cfg.force_floor_n, 5.0);
+        assert_eq!(
+            cfg.tool,
+            Tool {
+                radius_mm: 6.0,
+                flutes: 3,
+                helix_deg: 35.0
+            }
+        );
+        assert_eq!(cfg.coeffs, TABLE2);
+    }
+
+    #[test]
+    fn partial_file_keeps_the_rest() {
+        let f: ToolFile =
+            parse_toml("[coeffs]\nr1 = { k = 0.3, p = -0.2 }\n", "t").expect("parses");
+        let base = EstimatorConfig::default();
+        let cfg = f.over(base);
+        assert_eq!(cfg.coeffs.r1, PowerLaw { k: 0.3, p: -0.2 });
+        assert_eq!(cfg.coeffs.ks, base.coeffs.ks);
+        assert_eq!(cfg.tool, base.tool);
+        assert_eq!(cfg.mode, base.mode);
+    }
+
+    #[test]
+    fn unknown_keys_are_errors_with_the_line() {
+        let e = parse_toml::<ToolFile>("mode = \"down\"\n[tool]\nradius = 6.0\n", "t.toml")
+            .expect_err("typo accepted");
+        let msg = e.to_string();
+        assert!(
+            msg.starts_with("t.toml line 3: ") && msg.contains("radius"),
+            "{msg}"
+        );
+        assert!(!msg.contains('\n'), "{msg}");
+    }
 }

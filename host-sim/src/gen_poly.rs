@@ -154,6 +154,14 @@ fn scaled(poly: &FxtPoly, fxt: f32, tc_mm: f32) -> (f64, f64) {
 
 /// Fits one set for `coeffs`.
 pub fn fit(coeffs: &CuttingCoefficients, spec: &FitSpec) -> Result<FxtPoly> {
+    ensure!(
+        spec.n_rr >= 2 && spec.n_tc >= 2 && spec.n_rr * spec.n_tc >= TERMS * TERMS,
+        "{}: fit grid {} x {} too small for {} coefficients",
+        spec.name,
+        spec.n_rr,
+        spec.n_tc,
+        TERMS * TERMS
+    );
     // Grid points as the f32 values the core sees.
     let rrs: Vec<f32> = linspace(spec.fit_rr.0, spec.fit_rr.1, spec.n_rr)
         .into_iter()

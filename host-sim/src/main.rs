@@ -39,19 +39,17 @@ OUTPUT: the input columns, then
 
 DEFAULTS (each can be changed in the --tool file): tool radius 8 mm, 4 flutes, helix 30 deg,
 down milling, the paper's Table 2 cutting coefficients, force floor 2 N, solver auto.
-Tool file example (every key optional; unknown keys are errors):
-  mode = \"up\"                  # or \"down\"
-  force_floor_n = 5.0
-  solver = \"inversion\"         # auto | polynomial | table3 | inversion
-  [tool]
-  radius_mm = 6.0
-  flutes = 3
-  helix_deg = 35.0
-  [coeffs]                     # K_s, r1, r2 = k * t_a^p, t_a in mm
-  ks = { k = 646.08, p = -0.4362 }
-  r1 = { k = 0.2201, p = -0.2667 }
-  r2 = { k = 0.1244, p = 0.1702 }
-  tc_fit_mm = [0.1042, 0.4667]";
+Tool file example (TOML; every key optional, unknown keys are errors):
+";
+
+/// The help text after the options: columns, units, signs, defaults, a tool file.
+fn estimate_help() -> String {
+    let example: String = config::TOOL_FILE_EXAMPLE
+        .lines()
+        .map(|l| format!("  {l}\n"))
+        .collect();
+    format!("{ESTIMATE_HELP}{}", example.trim_end())
+}
 
 /// Desktop tools around the sensorless tool monitor's estimator.
 #[derive(Parser, Debug)]
@@ -77,7 +75,7 @@ enum Command {
         check: bool,
     },
     /// Estimate radial and axial depth of cut from per-tooth average forces (CSV).
-    #[command(after_help = ESTIMATE_HELP)]
+    #[command(after_help = estimate_help())]
     Estimate {
         /// Per-tooth CSV (see below).
         #[arg(long, value_name = "FILE")]
@@ -220,10 +218,7 @@ fn estimate_cmd(
     let rd = File::open(input).with_context(|| format!("cannot open {file}"))?;
     let rd = BufReader::new(rd);
     let summary = match output {
-        Some(p) => {
-            let w = File::create(p).with_context(|| format!("cannot create {}", p.display()))?;
-            estimate::run(rd, &file, BufWriter::new(w), &est, route.into())?
-        }
+        Some(p) => write_then_rename(p, |w| estimate::run(rd, &file, w, &est, route.into()))?,
         None => {
             let out = std::io::stdout().lock();
             let s = estimate::run(rd, &file, BufWriter::new(out), &est, route.into())?;
@@ -238,4 +233,29 @@ fn estimate_cmd(
         summary.rows - summary.valid
     );
     Ok(())
+}
+
+/// Runs `body` on a temporary file beside `path` and renames it to `path` only on success,
+/// so a failed run never leaves a truncated output that looks complete.
+fn write_then_rename<T>(
+    path: &Path,
+    body: impl FnOnce(&mut BufWriter<File>) -> Result<T>,
+) -> Result<T> {
+    let mut tmp_name = path.as_os_str().to_owned();
+    tmp_name.push(".partial");
+    let tmp = PathBuf::from(tmp_name);
+    let f = File::create(&tmp).with_context(|| format!("cannot create {}", tmp.display()))?;
+    let mut w = BufWriter::new(f);
+    let result = body(&mut w).and_then(|v| {
+        w.flush()
+            .with_context(|| format!("cannot write {}", tmp.display()))?;
+        std::fs::rename(&tmp, path)
+            .with_context(|| format!("cannot rename {} to {}", tmp.display(), path.display()))?;
+        Ok(v)
+    });
+    if result.is_err() {
+        // Best effort: the error being reported matters more than a leftover file.
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result
 }
