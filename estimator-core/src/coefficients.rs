@@ -38,6 +38,9 @@ pub struct CuttingCoefficients {
     pub tc_fit_mm: (f32, f32),
 }
 
+/// Relative slack on the ends of [`CuttingCoefficients::tc_fit_mm`].
+pub const TC_RANGE_MARGIN: f32 = 0.02;
+
 /// Paper 000, Table 2: SB40 steel, 16 mm HSS 4-flute end mill, 600 rpm,
 /// t_c 0.1042 to 0.4667 mm/tooth.
 pub const TABLE2: CuttingCoefficients = CuttingCoefficients {
@@ -57,9 +60,12 @@ pub const TABLE2: CuttingCoefficients = CuttingCoefficients {
 };
 
 impl CuttingCoefficients {
-    /// Whether `tc_mm` lies in the range the laws were identified over.
+    /// Whether `tc_mm` lies in the range the laws were identified over, give or take
+    /// [`TC_RANGE_MARGIN`]: a measured feed jitters by a sample of period length, and the
+    /// paper's own feeds sit on the ends of its range.
     pub fn tc_in_fit_range(&self, tc_mm: f32) -> bool {
-        tc_mm >= self.tc_fit_mm.0 && tc_mm <= self.tc_fit_mm.1
+        tc_mm >= self.tc_fit_mm.0 * (1.0 - TC_RANGE_MARGIN)
+            && tc_mm <= self.tc_fit_mm.1 * (1.0 + TC_RANGE_MARGIN)
     }
 
     /// Checks that every parameter is finite and the laws are usable (`k > 0`).

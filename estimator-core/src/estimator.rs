@@ -235,6 +235,12 @@ impl Estimator {
             Status::TC_OUT_OF_RANGE,
         );
         let coeffs = &self.cfg.coeffs;
+        // Up milling: f_xt -> 1 as R_r -> 0 and peaks above 1 at light cuts, so any ratio
+        // above 1 is also produced by a lighter cut than the one reported (whichever solver).
+        status.set_if(
+            ratio == Ratio::Fxt && self.cfg.mode == MillingMode::Up && f > 1.0,
+            Status::AMBIGUOUS,
+        );
         let (mut rr, mut method) = self.solve_rr(ratio, f, tc_mm, &mut status);
         let mut op = Operating::new(coeffs, self.cfg.mode, rr, tc_mm);
         let mut slopes = op.slopes(coeffs, self.cfg.mode);
@@ -518,6 +524,11 @@ mod tests {
         assert!((r.rr - 0.3).abs() < 0.01, "{r:?}");
         let r = e.estimate(0.2, motor(MillingMode::Up, 1.0, 1.0, 0.2));
         assert!(r.status.is_valid(), "{}", r.status);
+        // Same on the polynomial's ground (R_r >= 0.5): a light cut that the polynomial
+        // maps to the slot side must still be flagged.
+        let r = e.estimate(0.02, motor(MillingMode::Up, 0.6, 1.0, 0.02));
+        assert_eq!(r.method, Method::Polynomial);
+        assert!(r.status.contains(Status::AMBIGUOUS), "{}", r.status);
     }
 
     #[test]

@@ -10,21 +10,29 @@
 //! - [`status`]: what every estimate carries.
 #![no_std]
 
+#[cfg(test)]
+extern crate std;
+
 pub mod coefficients;
 pub mod conformance;
+pub mod drive;
 pub mod estimator;
 pub mod forward;
 pub mod fxt_poly;
 pub mod geometry;
 pub mod invert;
+pub mod monitor;
 pub mod poly;
 pub mod status;
+pub mod table;
 pub mod table3;
+pub mod tooth;
 
 pub use coefficients::{CuttingCoefficients, LinearCoefficients, PowerLaw, TABLE2};
 pub use estimator::{Estimate, Estimator, EstimatorConfig, Measured, Method, Solver};
 pub use forward::{average_forces, average_forces_linear, AverageForces, Engagement};
 pub use geometry::{MillingMode, Tool};
+pub use monitor::{Monitor, MonitorConfig, MonitorState, Sample, ToothRecord};
 pub use status::Status;
 
 /// A configuration parameter that cannot be used, named.

@@ -29,15 +29,50 @@ impl Status {
     /// (up milling, light cuts): the branch nearest the slot was taken.
     pub const AMBIGUOUS: Status = Status(1 << 5);
 
+    /// The tooth period was too short, too long, jumped in length, or held a glitch pulse:
+    /// its averages are not used.
+    pub const PERIOD_INVALID: Status = Status(1 << 6);
+    /// No tooth-sync pulse within the longest allowed period (spindle stopped, encoder lost).
+    pub const NO_SYNC: Status = Status(1 << 7);
+    /// Samples in the period were NaN, infinite or at the ADC's clipping level.
+    pub const INPUT_FAULT: Status = Status(1 << 8);
+    /// Force rising or falling from one revolution to the next: entry, exit, a step in
+    /// engagement.
+    pub const TRANSIENT: Status = Status(1 << 9);
+    /// Feed per tooth changing: feed override, speed change, acceleration.
+    pub const FEED_CHANGE: Status = Status(1 << 10);
+    /// The filter window still holds data from before the last disturbance.
+    pub const SETTLING: Status = Status(1 << 11);
+
     /// Names for printing, in bit order.
-    pub const NAMES: [(Status, &'static str); 6] = [
+    pub const NAMES: [(Status, &'static str); 12] = [
         (Self::NOT_CUTTING, "not_cutting"),
         (Self::RR_CLAMPED, "rr_clamped"),
         (Self::RA_CLAMPED, "ra_clamped"),
         (Self::TC_OUT_OF_RANGE, "tc_out_of_range"),
         (Self::NON_FINITE, "non_finite"),
         (Self::AMBIGUOUS, "ambiguous"),
+        (Self::PERIOD_INVALID, "period_invalid"),
+        (Self::NO_SYNC, "no_sync"),
+        (Self::INPUT_FAULT, "input_fault"),
+        (Self::TRANSIENT, "transient"),
+        (Self::FEED_CHANGE, "feed_change"),
+        (Self::SETTLING, "settling"),
     ];
+
+    /// Parses `valid` or names joined by `|` (the `Display` form).
+    pub fn parse(s: &str) -> Option<Status> {
+        let s = s.trim();
+        if s == "valid" {
+            return Some(Status::VALID);
+        }
+        let mut out = Status::VALID;
+        for name in s.split('|') {
+            let (flag, _) = Self::NAMES.iter().find(|(_, n)| *n == name.trim())?;
+            out |= *flag;
+        }
+        Some(out)
+    }
 
     /// No flag set.
     #[inline]
@@ -49,6 +84,12 @@ impl Status {
     #[inline]
     pub const fn contains(self, other: Status) -> bool {
         self.0 & other.0 == other.0
+    }
+
+    /// Whether any flag of `other` is set.
+    #[inline]
+    pub const fn intersects(self, other: Status) -> bool {
+        self.0 & other.0 != 0
     }
 
     /// Union.

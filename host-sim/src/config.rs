@@ -1,24 +1,25 @@
 //! TOML files on the desktop: the tool file of `estimate` and the coefficient file of
 //! `gen-poly`.
 //!
-//! Both read into host-side mirrors with every field optional and unknown keys refused:
-//! the core's own serde types would ignore a misspelt key (`radius = 6` instead of
+//! Key names are those of the core's serde derive (a serialised `EstimatorConfig` or
+//! `CuttingCoefficients` is a valid file). A file may give any part: it is laid over the
+//! defaults serialised to TOML, key by key, and the result deserialised. Keys the defaults
+//! do not have are refused: serde would ignore a misspelt key (`radius = 6` for
 //! `radius_mm = 6`) and silently keep the default, which here means a wrong depth of cut.
-//! Key names are those of the core's serde derive, so a serialised `EstimatorConfig` (or
-//! `CuttingCoefficients`) is a valid file.
+//! Working on the serialised form keeps this in step with the core's types: a field the
+//! core adds is accepted, and defaulted, without a change here.
 
-use anyhow::{anyhow, Context, Result};
-use estimator_core::{
-    CuttingCoefficients, EstimatorConfig, MillingMode, PowerLaw, Solver, Tool, TABLE2,
-};
-use serde::Deserialize;
+use anyhow::{anyhow, bail, Context, Result};
+use estimator_core::{CuttingCoefficients, EstimatorConfig, TABLE2};
+use serde::{de::DeserializeOwned, Serialize};
 use std::path::Path;
 
-/// A tool file using every key, shown by `estimate --help` (and parsed by a test, so the
-/// help cannot drift from the format).
+/// A tool file using every key, shown by `estimate --help` (and checked by a test against
+/// the core's `EstimatorConfig`, so the help cannot drift from the format).
 pub const TOOL_FILE_EXAMPLE: &str = r#"mode = "up"                  # or "down"
 force_floor_n = 5.0          # N; below it: not cutting
 solver = "inversion"         # auto | polynomial | table3 | inversion
+gain_uncertainty = 0.02      # relative 1-sigma gain error of each force channel
 [tool]
 radius_mm = 6.0
 flutes = 3
@@ -30,119 +31,53 @@ r2 = { k = 0.1244, p = 0.1702 }
 tc_fit_mm = [0.1042, 0.4667]
 "#;
 
-/// `k * t_a^p`, both required.
-#[derive(Clone, Copy, Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct PowerLawFile {
-    /// Value at `t_a` = 1 mm.
-    pub k: f32,
-    /// Exponent.
-    pub p: f32,
-}
-
-impl From<PowerLawFile> for PowerLaw {
-    fn from(l: PowerLawFile) -> Self {
-        PowerLaw { k: l.k, p: l.p }
-    }
-}
-
-/// Cutting coefficients, any part of them (keys as in `CuttingCoefficients`).
-#[derive(Clone, Copy, Debug, Default, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct CoeffsFile {
-    /// `K_s` [N/mm^2] against `t_a` [mm].
-    pub ks: Option<PowerLawFile>,
-    /// Radial / tangential.
-    pub r1: Option<PowerLawFile>,
-    /// Axial / tangential.
-    pub r2: Option<PowerLawFile>,
-    /// Calibration feed range [mm/tooth].
-    pub tc_fit_mm: Option<(f32, f32)>,
-}
-
-impl CoeffsFile {
-    /// `base` with the parts given here replaced.
-    pub fn over(self, base: CuttingCoefficients) -> CuttingCoefficients {
-        CuttingCoefficients {
-            ks: self.ks.map_or(base.ks, Into::into),
-            r1: self.r1.map_or(base.r1, Into::into),
-            r2: self.r2.map_or(base.r2, Into::into),
-            tc_fit_mm: self.tc_fit_mm.unwrap_or(base.tc_fit_mm),
-        }
-    }
-
-    /// The complete set; names the first key missing.
-    pub fn complete(self) -> Result<CuttingCoefficients> {
-        let need = |v: Option<PowerLawFile>, key: &str| {
-            v.map(PowerLaw::from)
-                .ok_or_else(|| anyhow!("missing key `{key}`"))
+/// `base` with every key of `patch` laid over it (tables merged key by key, other values
+/// replaced); a key `base` lacks is an error naming its dotted path. `at` is the path of
+/// `base` itself ("" at the top).
+fn overlay(base: &mut toml::Table, patch: toml::Table, at: &str) -> Result<()> {
+    for (key, value) in patch {
+        let path = if at.is_empty() {
+            key.clone()
+        } else {
+            format!("{at}.{key}")
         };
-        Ok(CuttingCoefficients {
-            ks: need(self.ks, "ks")?,
-            r1: need(self.r1, "r1")?,
-            r2: need(self.r2, "r2")?,
-            tc_fit_mm: self
-                .tc_fit_mm
-                .ok_or_else(|| anyhow!("missing key `tc_fit_mm`"))?,
-        })
-    }
-}
-
-/// The cutter, any part of it.
-#[derive(Clone, Copy, Debug, Default, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ToolPart {
-    /// Tool radius [mm].
-    pub radius_mm: Option<f32>,
-    /// Number of flutes.
-    pub flutes: Option<u8>,
-    /// Helix angle [deg].
-    pub helix_deg: Option<f32>,
-}
-
-/// The `--tool` file of `estimate`: overrides of [`EstimatorConfig::default`].
-#[derive(Clone, Copy, Debug, Default, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ToolFile {
-    /// `[tool]`: radius, flutes, helix.
-    pub tool: Option<ToolPart>,
-    /// `[coeffs]`: cutting coefficients.
-    pub coeffs: Option<CoeffsFile>,
-    /// `mode = "down"` or `"up"`.
-    pub mode: Option<MillingMode>,
-    /// Not-cutting threshold [N].
-    pub force_floor_n: Option<f32>,
-    /// `solver = "auto" | "polynomial" | "table3" | "inversion"`.
-    pub solver: Option<Solver>,
-}
-
-impl ToolFile {
-    /// `base` with the parts given here replaced.
-    pub fn over(self, base: EstimatorConfig) -> EstimatorConfig {
-        let t = self.tool.unwrap_or_default();
-        EstimatorConfig {
-            tool: Tool {
-                radius_mm: t.radius_mm.unwrap_or(base.tool.radius_mm),
-                flutes: t.flutes.unwrap_or(base.tool.flutes),
-                helix_deg: t.helix_deg.unwrap_or(base.tool.helix_deg),
-            },
-            coeffs: self.coeffs.unwrap_or_default().over(base.coeffs),
-            mode: self.mode.unwrap_or(base.mode),
-            force_floor_n: self.force_floor_n.unwrap_or(base.force_floor_n),
-            solver: self.solver.unwrap_or(base.solver),
+        let known = base
+            .keys()
+            .map(String::as_str)
+            .collect::<Vec<_>>()
+            .join(", ");
+        let Some(slot) = base.get_mut(&key) else {
+            bail!("unknown key `{path}` (expected one of: {known})");
+        };
+        match (slot, value) {
+            (toml::Value::Table(b), toml::Value::Table(p)) => overlay(b, p, &path)?,
+            (slot, v) => *slot = v,
         }
     }
+    Ok(())
 }
 
-/// Reads and parses a TOML file; errors name the file.
-fn read_toml<T: for<'de> Deserialize<'de>>(path: &Path) -> Result<T> {
-    let text =
-        std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
-    parse_toml(&text, &path.display().to_string())
+/// `base` overridden by the TOML `text`; errors name `file` (and the line, for syntax).
+pub fn override_from<T: Serialize + DeserializeOwned>(
+    base: &T,
+    text: &str,
+    file: &str,
+) -> Result<T> {
+    let patch = parse_toml::<toml::Table>(text, file)?;
+    let mut merged = toml::Table::try_from(base).context("serialising the defaults")?;
+    overlay(&mut merged, patch, "").with_context(|| file.to_string())?;
+    merged
+        .try_into()
+        .map_err(|e: toml::de::Error| anyhow!("{file}: {}", e.message().trim()))
+}
+
+/// Reads a TOML file.
+fn read(path: &Path) -> Result<String> {
+    std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))
 }
 
 /// Parses TOML text; errors name `file` and the line.
-pub fn parse_toml<T: for<'de> Deserialize<'de>>(text: &str, file: &str) -> Result<T> {
+pub fn parse_toml<T: DeserializeOwned>(text: &str, file: &str) -> Result<T> {
     // toml's messages span several lines (a source excerpt); keep ours to one.
     toml::from_str(text).map_err(|e| {
         let msg = e.message().trim();
@@ -167,32 +102,48 @@ pub fn load_estimator_config(tool_file: Option<&Path>) -> Result<EstimatorConfig
     let base = EstimatorConfig::default();
     match tool_file {
         None => Ok(base),
-        Some(path) => Ok(read_toml::<ToolFile>(path)?.over(base)),
+        Some(path) => override_from(&base, &read(path)?, &path.display().to_string()),
     }
 }
 
-/// A complete coefficient set from a `--coeffs` file, or Table 2 without one.
+/// A coefficient set from a `--coeffs` file (every key required), or Table 2 without one.
 pub fn load_coeffs(path: Option<&Path>) -> Result<CuttingCoefficients> {
     let Some(path) = path else {
         return Ok(TABLE2);
     };
-    let coeffs = read_toml::<CoeffsFile>(path)?
-        .complete()
-        .with_context(|| format!("{}", path.display()))?;
-    coeffs
-        .validate()
-        .map_err(|e| anyhow!("{}: {e}", path.display()))?;
+    let file = path.display().to_string();
+    let text = read(path)?;
+    // Overlaying on TABLE2 checks the key names; the plain parse then insists on all of
+    // them: a fit for a half-replaced set would be a fit for nobody's tool.
+    override_from(&TABLE2, &text, &file)?;
+    let coeffs: CuttingCoefficients = parse_toml(&text, &file)?;
+    coeffs.validate().map_err(|e| anyhow!("{file}: {e}"))?;
     Ok(coeffs)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use estimator_core::{MillingMode, PowerLaw, Solver, Tool};
+
+    fn keys(t: &toml::Table, at: &str, out: &mut Vec<String>) {
+        for (k, v) in t {
+            let path = if at.is_empty() {
+                k.clone()
+            } else {
+                format!("{at}.{k}")
+            };
+            match v {
+                toml::Value::Table(sub) => keys(sub, &path, out),
+                _ => out.push(path),
+            }
+        }
+    }
 
     #[test]
-    fn help_example_parses_and_sets_every_part() {
-        let f: ToolFile = parse_toml(TOOL_FILE_EXAMPLE, "example").expect("example parses");
-        let cfg = f.over(EstimatorConfig::default());
+    fn help_example_parses_and_covers_every_key() {
+        let base = EstimatorConfig::default();
+        let cfg = override_from(&base, TOOL_FILE_EXAMPLE, "example").expect("example parses");
         assert_eq!(cfg.mode, MillingMode::Up);
         assert_eq!(cfg.solver, Solver::Inversion);
         assert_eq!(cfg.force_floor_n, 5.0);
@@ -205,29 +156,64 @@ mod tests {
             }
         );
         assert_eq!(cfg.coeffs, TABLE2);
+        // A field added to EstimatorConfig must be documented in the example.
+        let (mut all, mut shown) = (Vec::new(), Vec::new());
+        keys(
+            &toml::Table::try_from(base).expect("serialise"),
+            "",
+            &mut all,
+        );
+        keys(
+            &parse_toml(TOOL_FILE_EXAMPLE, "example").expect("parse"),
+            "",
+            &mut shown,
+        );
+        let missing: Vec<_> = all.iter().filter(|k| !shown.contains(k)).collect();
+        assert!(missing.is_empty(), "TOOL_FILE_EXAMPLE lacks {missing:?}");
     }
 
     #[test]
     fn partial_file_keeps_the_rest() {
-        let f: ToolFile =
-            parse_toml("[coeffs]\nr1 = { k = 0.3, p = -0.2 }\n", "t").expect("parses");
         let base = EstimatorConfig::default();
-        let cfg = f.over(base);
-        assert_eq!(cfg.coeffs.r1, PowerLaw { k: 0.3, p: -0.2 });
-        assert_eq!(cfg.coeffs.ks, base.coeffs.ks);
-        assert_eq!(cfg.tool, base.tool);
-        assert_eq!(cfg.mode, base.mode);
+        let cfg = override_from(&base, "[coeffs]\nr1 = { k = 0.3 }\n", "t").expect("parses");
+        assert_eq!(
+            cfg.coeffs.r1,
+            PowerLaw {
+                k: 0.3,
+                p: base.coeffs.r1.p
+            }
+        );
+        assert_eq!(
+            EstimatorConfig {
+                coeffs: base.coeffs,
+                ..cfg
+            },
+            base
+        );
     }
 
     #[test]
-    fn unknown_keys_are_errors_with_the_line() {
-        let e = parse_toml::<ToolFile>("mode = \"down\"\n[tool]\nradius = 6.0\n", "t.toml")
+    fn unknown_keys_and_bad_values_are_named() {
+        let base = EstimatorConfig::default();
+        let e = override_from(&base, "mode = \"down\"\n[tool]\nradius = 6.0\n", "t.toml")
             .expect_err("typo accepted");
-        let msg = e.to_string();
+        let msg = format!("{e:#}");
         assert!(
-            msg.starts_with("t.toml line 3: ") && msg.contains("radius"),
+            msg.starts_with("t.toml: unknown key `tool.radius`"),
             "{msg}"
         );
-        assert!(!msg.contains('\n'), "{msg}");
+        assert!(msg.contains("radius_mm"), "{msg}");
+        let e = override_from(&base, "mode = \"sideways\"\n", "t.toml").expect_err("bad mode");
+        let msg = format!("{e:#}");
+        assert!(
+            msg.starts_with("t.toml: ") && msg.contains("sideways"),
+            "{msg}"
+        );
+        let e = override_from(&base, "mode = \n", "t.toml").expect_err("bad syntax");
+        let msg = format!("{e:#}");
+        assert!(
+            msg.starts_with("t.toml line 1: ") && !msg.contains('\n'),
+            "{msg}"
+        );
     }
 }

@@ -16,11 +16,11 @@ use std::io::{Read, Write};
 
 /// Column of the feed per tooth [mm/tooth].
 pub const TC: &str = "tc_mm";
-/// Column of the feed-direction force `F_ax` [N].
+/// Column of the feed-direction force `F_ax`, N.
 pub const FX: &str = "fx_n";
-/// Column of the tangential force `F_at` [N] (motor route).
+/// Column of the tangential force `F_at`, N (motor route).
 pub const FT: &str = "ft_n";
-/// Column of the force normal to the feed `F_ay` [N] (dynamometer route).
+/// Column of the force normal to the feed `F_ay`, N (dynamometer route).
 pub const FY: &str = "fy_n";
 /// Columns appended to every row, in order.
 pub const OUTPUT_COLUMNS: [&str; 6] = ["rr", "ra", "dr_mm", "da_mm", "status", "method"];

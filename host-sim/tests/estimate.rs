@@ -359,7 +359,7 @@ fn binary_errors_are_one_line_and_name_the_problem() {
     let good = scratch("good.csv", "tc_mm,fx_n,ft_n\n0.2,-50,400\n");
     assert_fails(
         &["estimate", "--input", s(&good), "--tool", s(&typo)],
-        &["typo.toml line 2", "radius"],
+        &["typo.toml", "unknown key `tool.radius`", "radius_mm"],
     );
     let neg = scratch("neg.toml", "[tool]\nradius_mm = -6.0\n");
     assert_fails(

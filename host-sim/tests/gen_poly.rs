@@ -175,15 +175,12 @@ fn coeffs_file_changes_the_fit_and_is_named_in_the_header() {
     let out = host_sim(&["gen-poly", "--coeffs", c, "--output", o]);
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success());
-    assert!(
-        err.contains("missing key `r1`") && err.contains("coeffs.toml"),
-        "{err}"
-    );
+    assert!(err.contains("`r1`") && err.contains("coeffs.toml"), "{err}");
 
     // So is a misspelt one.
     std::fs::write(&coeffs, "ks = { k = 700.0, pp = -0.4 }\n").expect("write");
     let out = host_sim(&["gen-poly", "--coeffs", c, "--output", o]);
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success());
-    assert!(err.contains("pp") && err.contains("line 1"), "{err}");
+    assert!(err.contains("unknown key `ks.pp`"), "{err}");
 }

@@ -1,0 +1,549 @@
+//! The streaming monitor: raw samples and encoder pulses in, one [`ToothRecord`] per tooth
+//! period out. The firmware and host-sim both run exactly this.
+//!
+//! # Design
+//! `samples -> tooth means -> forces -> filtered forces -> immersion`, per tooth:
+//! 1. [`crate::tooth`] averages the raw channels over each tooth period (per sample: a few
+//!    additions; everything below runs once per tooth).
+//! 2. The means become forces ([`crate::drive`]): the feed force `F_ax` from the feed-axis
+//!    currents, projected on the feed direction, and the tangential force `F_at` from the
+//!    spindle current or load; or, from a dynamometer, `F_ax` and `F_ay` directly. All
+//!    conversions are linear in the signal at constant speed, so converting the mean is the
+//!    same as averaging converted samples, at a fraction of the cost.
+//! 3. Runout makes the flutes cut unequally; any `N` consecutive teeth hold each flute once,
+//!    so means over whole revolutions remove it. The filter is the mean of the last
+//!    `filter_revs * N` valid teeth; its uncertainty is the scatter of its per-revolution
+//!    block means (standard error), propagated through the estimator.
+//! 4. Validity: the immersion is reported only when the whole window is steady. Entry,
+//!    exit and engagement steps show as a change between the last revolution and the one
+//!    before (`TRANSIENT`), feed or speed changes as a change of `t_c` (`FEED_CHANGE`);
+//!    either, like an invalid period or an air cut, restarts a settling count that keeps
+//!    the immersion flagged until the window holds only data from after it.
+
+use crate::drive::{FeedDrive, SpindleModel};
+use crate::estimator::{Estimate, Estimator, EstimatorConfig, Measured, Method};
+use crate::status::Status;
+use crate::tooth::{Period, SyncMode, Timing, ToothState, CHANNELS};
+use crate::ConfigError;
+
+/// Most teeth the filter window may hold (`filter_revs * flutes`, and at least two
+/// revolutions): 64 teeth of three floats, under 1 KiB of state.
+pub const MAX_WINDOW: usize = 64;
+
+/// Cosine of the largest turn of the feed direction between two teeth that is not a
+/// feed change (about 3 degrees: an arc of 20 mm radius at 250 mm/min turns 0.3 degrees
+/// per tooth at 600 rpm, 4 flutes).
+const MAX_TURN_COS: f32 = 0.9986;
+
+/// What the analog inputs carry.
+// No heap to box the large variant into, and there is one of these per monitor.
+#[allow(clippy::large_enum_variant)]
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
+pub enum Input {
+    /// Servo-amplifier check terminals: feed-axis currents [A] and the spindle signal.
+    Motor {
+        /// Feed drive model (one or two axes).
+        feed: FeedDrive,
+        /// Spindle model (current or load %).
+        spindle: SpindleModel,
+    },
+    /// Forces [N] in the feed frame from a dynamometer: `feed[0] = F_ax`, `feed[1] = F_ay`.
+    Dynamometer,
+}
+
+/// Where the feed velocity comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
+pub enum FeedVelocity {
+    /// From the samples (feed-axis encoders).
+    #[default]
+    Measured,
+    /// A fixed programmed feed [mm/min] per axis, when no encoder is wired.
+    Nominal([f32; 2]),
+}
+
+/// Monitor configuration, checked once by [`build`](Self::build).
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct MonitorConfig {
+    /// ADC sample rate [Hz].
+    pub sample_rate_hz: f32,
+    /// Analog inputs.
+    pub input: Input,
+    /// Feed velocity source.
+    pub feed_velocity: FeedVelocity,
+    /// Tool, coefficients, mode, solver.
+    pub estimator: EstimatorConfig,
+    /// Encoder pulses per tooth or per revolution.
+    pub sync: SyncMode,
+    /// Slowest spindle speed monitored [rpm]; a longer period means the spindle stopped.
+    pub min_rpm: f32,
+    /// Fastest spindle speed [rpm]; a shorter period is a glitch.
+    pub max_rpm: f32,
+    /// Largest relative change of the tooth period from one tooth to the next.
+    pub max_period_jump: f32,
+    /// Filter length in revolutions.
+    pub filter_revs: u8,
+    /// Relative change of the revolution-mean force between consecutive revolutions that
+    /// counts as entry, exit or an engagement step.
+    pub transient_rel: f32,
+    /// Relative change of the feed per tooth that counts as a feed or speed change.
+    pub feed_change_rel: f32,
+    /// Clipping levels of the feed X, feed Y and spindle inputs (same units as the
+    /// samples); a sample at or beyond is saturated.
+    pub clip: [f32; 3],
+}
+
+impl Default for MonitorConfig {
+    /// The paper's tool on a one-axis feed with a current-sensed spindle, 20 kS/s.
+    fn default() -> Self {
+        MonitorConfig {
+            sample_rate_hz: 20_000.0,
+            input: Input::Motor {
+                feed: FeedDrive::default(),
+                spindle: SpindleModel::default(),
+            },
+            feed_velocity: FeedVelocity::Measured,
+            estimator: EstimatorConfig::default(),
+            sync: SyncMode::PerTooth,
+            min_rpm: 60.0,
+            max_rpm: 24_000.0,
+            max_period_jump: 0.1,
+            filter_revs: 4,
+            transient_rel: 0.03,
+            feed_change_rel: 0.03,
+            clip: [f32::INFINITY; 3],
+        }
+    }
+}
+
+impl MonitorConfig {
+    /// Validates everything and derives the sample-count limits.
+    pub fn build(self) -> Result<Monitor, ConfigError> {
+        use ConfigError::*;
+        let est = self.estimator.build()?;
+        if let Input::Motor { feed, spindle } = &self.input {
+            feed.validate()?;
+            spindle.validate()?;
+        }
+        let fs = self.sample_rate_hz;
+        if !fs.is_finite() || fs <= 0.0 {
+            return Err(OutOfRange("sample_rate_hz"));
+        }
+        if let FeedVelocity::Nominal(v) = self.feed_velocity {
+            if !(v[0].is_finite() && v[1].is_finite()) {
+                return Err(NonFinite("feed_velocity"));
+            }
+        }
+        if !(self.min_rpm.is_finite() && self.min_rpm > 0.0) {
+            return Err(OutOfRange("min_rpm"));
+        }
+        if !(self.max_rpm.is_finite() && self.max_rpm > self.min_rpm) {
+            return Err(OutOfRange("max_rpm"));
+        }
+        for (v, name) in [
+            (self.max_period_jump, "max_period_jump"),
+            (self.transient_rel, "transient_rel"),
+            (self.feed_change_rel, "feed_change_rel"),
+        ] {
+            if !(v.is_finite() && v > 0.0 && v < 1.0) {
+                return Err(OutOfRange(name));
+            }
+        }
+        if self.clip.iter().any(|c| c.is_nan() || *c <= 0.0) {
+            return Err(OutOfRange("clip"));
+        }
+        let n = self.estimator.tool.flutes as usize;
+        let window = self.filter_revs as usize * n;
+        if self.filter_revs == 0 || window.max(2 * n) > MAX_WINDOW {
+            return Err(OutOfRange("filter_revs"));
+        }
+        let per_tooth = |rpm: f32| fs * 60.0 / (rpm * n as f32);
+        let timing = Timing {
+            mode: self.sync,
+            teeth: n as u8,
+            min_period: per_tooth(self.max_rpm) as u32,
+            max_period: per_tooth(self.min_rpm) as u32,
+            max_jump: self.max_period_jump,
+            clip: self.clip,
+        };
+        if timing.min_period < 2 {
+            return Err(OutOfRange("max_rpm"));
+        }
+        Ok(Monitor {
+            cfg: self,
+            est,
+            timing,
+            window,
+        })
+    }
+}
+
+/// One sample of every input.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct Sample {
+    /// Feed-axis currents X, Y [A] (motor input) or feed-frame forces `F_ax`, `F_ay` [N]
+    /// (dynamometer input).
+    pub feed: [f32; 2],
+    /// Feed velocity X, Y [mm/min], signed (ignored with a nominal feed).
+    pub feed_velocity_mm_min: [f32; 2],
+    /// Spindle current [A] or load [%], per the spindle model (unused for a dynamometer).
+    pub spindle: f32,
+    /// A tooth-sync (or revolution) pulse arrived at this sample.
+    pub sync: bool,
+}
+
+/// What the monitor says about one tooth period. Immersion fields are 0 unless
+/// `status.is_valid()`.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct ToothRecord {
+    /// Index of the period's last sample (time = `end_sample / sample_rate_hz`).
+    pub end_sample: u64,
+    /// Tooth index in the revolution.
+    pub tooth: u8,
+    /// Period length [samples].
+    pub samples: u32,
+    /// Spindle speed from the period [rpm].
+    pub rpm: f32,
+    /// Feed per tooth of this period [mm/tooth].
+    pub tc_mm: f32,
+    /// Tooth-average feed force `F_ax` [N].
+    pub fx_n: f32,
+    /// Tooth-average tangential force `F_at` (motor) or normal force `F_ay`
+    /// (dynamometer) [N].
+    pub f2_n: f32,
+    /// `F_ax` filtered over the window [N].
+    pub fx_filt_n: f32,
+    /// Second force filtered [N].
+    pub f2_filt_n: f32,
+    /// Feed per tooth filtered [mm/tooth].
+    pub tc_filt_mm: f32,
+    /// Radial immersion ratio.
+    pub rr: f32,
+    /// Axial immersion ratio.
+    pub ra: f32,
+    /// Radial depth [mm].
+    pub dr_mm: f32,
+    /// Axial depth [mm].
+    pub da_mm: f32,
+    /// 1-sigma of `dr_mm` [mm].
+    pub dr_sigma_mm: f32,
+    /// 1-sigma of `da_mm` [mm].
+    pub da_sigma_mm: f32,
+    /// Flags; empty means the immersion can be trusted.
+    pub status: Status,
+    /// What produced `R_r`.
+    pub method: Method,
+}
+
+impl ToothRecord {
+    /// End time of the period [s].
+    pub fn time_s(&self, sample_rate_hz: f32) -> f64 {
+        self.end_sample as f64 / sample_rate_hz as f64
+    }
+
+    /// Every field as raw bits, in declaration order: what host and target compare.
+    pub fn to_words(&self) -> [u32; RECORD_WORDS] {
+        [
+            self.end_sample as u32,
+            (self.end_sample >> 32) as u32,
+            self.tooth as u32,
+            self.samples,
+            self.rpm.to_bits(),
+            self.tc_mm.to_bits(),
+            self.fx_n.to_bits(),
+            self.f2_n.to_bits(),
+            self.fx_filt_n.to_bits(),
+            self.f2_filt_n.to_bits(),
+            self.tc_filt_mm.to_bits(),
+            self.rr.to_bits(),
+            self.ra.to_bits(),
+            self.dr_mm.to_bits(),
+            self.da_mm.to_bits(),
+            self.dr_sigma_mm.to_bits(),
+            self.da_sigma_mm.to_bits(),
+            self.status.0 as u32,
+            self.method as u32,
+        ]
+    }
+}
+
+/// Length of [`ToothRecord::to_words`].
+pub const RECORD_WORDS: usize = 19;
+
+/// One valid tooth in the filter window.
+#[derive(Clone, Copy, Debug, Default)]
+struct Entry {
+    fx_n: f32,
+    f2_n: f32,
+    tc_mm: f32,
+}
+
+/// Running state of a [`Monitor`]: about 1 KiB, no heap.
+#[derive(Clone, Debug)]
+pub struct MonitorState {
+    tooth: ToothState,
+    ring: [Entry; MAX_WINDOW],
+    /// Next write position.
+    head: usize,
+    /// Valid entries (saturates at MAX_WINDOW).
+    len: usize,
+    /// Teeth still to come before the window is steady again.
+    settle: usize,
+    /// Feed direction (unit vector) of the last valid tooth.
+    dir: [f32; 2],
+    /// Last filtered output (kept through invalid periods, for display).
+    fx_filt_n: f32,
+    f2_filt_n: f32,
+    tc_filt_mm: f32,
+}
+
+impl Default for MonitorState {
+    fn default() -> Self {
+        MonitorState {
+            tooth: ToothState::default(),
+            ring: [Entry::default(); MAX_WINDOW],
+            head: 0,
+            len: 0,
+            settle: 0,
+            dir: [0.0; 2],
+            fx_filt_n: 0.0,
+            f2_filt_n: 0.0,
+            tc_filt_mm: 0.0,
+        }
+    }
+}
+
+impl MonitorState {
+    /// The `k`-th most recent entry (0 = newest); `k < len`.
+    fn back(&self, k: usize) -> Entry {
+        let i = (self.head + MAX_WINDOW - 1 - k % MAX_WINDOW) % MAX_WINDOW;
+        self.ring.get(i).copied().unwrap_or_default()
+    }
+
+    /// Mean of entries `from..from + count` back from the newest.
+    fn mean(&self, from: usize, count: usize) -> Entry {
+        let mut m = Entry::default();
+        for k in from..from + count {
+            let e = self.back(k);
+            m.fx_n += e.fx_n;
+            m.f2_n += e.f2_n;
+            m.tc_mm += e.tc_mm;
+        }
+        let inv = 1.0 / count.max(1) as f32;
+        Entry {
+            fx_n: m.fx_n * inv,
+            f2_n: m.f2_n * inv,
+            tc_mm: m.tc_mm * inv,
+        }
+    }
+}
+
+/// A validated monitor. `process` is the whole signal chain and cannot fail.
+#[derive(Clone, Debug)]
+pub struct Monitor {
+    cfg: MonitorConfig,
+    est: Estimator,
+    timing: Timing,
+    window: usize,
+}
+
+impl Monitor {
+    /// The configuration.
+    pub fn config(&self) -> &MonitorConfig {
+        &self.cfg
+    }
+
+    /// The estimator the monitor runs.
+    pub fn estimator(&self) -> &Estimator {
+        &self.est
+    }
+
+    /// Feeds one sample; returns a record when a tooth period closes.
+    pub fn process(&self, st: &mut MonitorState, s: &Sample) -> Option<ToothRecord> {
+        let v = match self.cfg.feed_velocity {
+            FeedVelocity::Measured => s.feed_velocity_mm_min,
+            FeedVelocity::Nominal(v) => v,
+        };
+        let x: [f32; CHANNELS] = [s.feed[0], s.feed[1], v[0], v[1], s.spindle];
+        let p = self.timing.push(&mut st.tooth, &x, s.sync)?;
+        Some(self.tooth(st, &p))
+    }
+
+    /// Everything that happens once per tooth period.
+    fn tooth(&self, st: &mut MonitorState, p: &Period) -> ToothRecord {
+        let n = self.cfg.estimator.tool.flutes as usize;
+        let fs = self.cfg.sample_rate_hz;
+        let rpm = if p.samples > 0 {
+            fs * 60.0 / (p.samples as f32 * n as f32)
+        } else {
+            0.0
+        };
+        let [m0, m1, v0, v1, sp] = p.mean;
+        let speed = libm::hypotf(v0, v1);
+        let tc_mm = speed / (n as f32 * rpm);
+        let (fx_n, f2_n, moving) = match &self.cfg.input {
+            Input::Motor { feed, spindle } => (
+                feed.feed_force_n([m0, m1], [v0, v1]),
+                spindle.tangential_force_n(sp, rpm, self.cfg.estimator.tool.radius_mm),
+                feed.moving([v0, v1]),
+            ),
+            Input::Dynamometer => (m0, m1, speed > 0.0),
+        };
+        let mut rec = ToothRecord {
+            end_sample: p.end_sample,
+            tooth: p.tooth,
+            samples: p.samples,
+            rpm: finite_or_zero(rpm),
+            tc_mm: finite_or_zero(tc_mm),
+            fx_n: finite_or_zero(fx_n),
+            f2_n: finite_or_zero(f2_n),
+            status: p.status,
+            ..ToothRecord::default()
+        };
+        let usable = p.status.is_valid()
+            && rpm.is_finite()
+            && tc_mm.is_finite()
+            && fx_n.is_finite()
+            && f2_n.is_finite();
+        if !usable {
+            rec.status.set_if(rec.status.is_valid(), Status::NON_FINITE);
+            st.settle = self.settle_teeth();
+            return self.finish(st, rec, None);
+        }
+        // Air cut or stopped feed: nothing to estimate, and the cut that follows starts
+        // with an entry.
+        let magnitude = match self.cfg.input {
+            Input::Motor { .. } => f2_n,
+            Input::Dynamometer => libm::hypotf(fx_n, f2_n),
+        };
+        let cutting = moving && magnitude > self.cfg.estimator.force_floor_n;
+        if !cutting {
+            rec.status |= Status::NOT_CUTTING;
+            st.settle = self.settle_teeth();
+            st.len = 0;
+            return self.finish(st, rec, None);
+        }
+        // Feed change: this tooth's t_c against the mean of the last revolution, and the
+        // feed direction against the last tooth's (reversal, corner, tight arc).
+        let dir = [v0 / speed, v1 / speed];
+        if st.len >= n {
+            let last_rev = st.mean(0, n).tc_mm;
+            let turned = dir[0] * st.dir[0] + dir[1] * st.dir[1] < MAX_TURN_COS;
+            if turned || (tc_mm - last_rev).abs() > self.cfg.feed_change_rel * last_rev {
+                rec.status |= Status::FEED_CHANGE;
+                st.settle = self.settle_teeth();
+            }
+        }
+        st.dir = dir;
+        push(st, Entry { fx_n, f2_n, tc_mm });
+        // Transient: the newest revolution against the one before (both runout-free).
+        if st.len >= 2 * n {
+            let now = st.mean(0, n);
+            let before = st.mean(n, n);
+            let mag = |e: &Entry| match self.cfg.input {
+                Input::Motor { .. } => e.f2_n,
+                Input::Dynamometer => libm::hypotf(e.fx_n, e.f2_n),
+            };
+            let (a, b) = (mag(&now), mag(&before));
+            // The feed force is held to the same scale: it can change alone (a reversal
+            // turns down milling into up milling at the same tangential force).
+            let limit = self.cfg.transient_rel * a.abs().max(b.abs());
+            if (a - b).abs() > limit || (now.fx_n - before.fx_n).abs() > limit {
+                rec.status |= Status::TRANSIENT;
+                st.settle = self.settle_teeth();
+            }
+        }
+        let filt = st.mean(0, self.window.min(st.len));
+        st.fx_filt_n = filt.fx_n;
+        st.f2_filt_n = filt.f2_n;
+        st.tc_filt_mm = filt.tc_mm;
+        if st.settle > 0 || st.len < self.settle_teeth() {
+            rec.status |= Status::SETTLING;
+            st.settle = st.settle.saturating_sub(1);
+            return self.finish(st, rec, None);
+        }
+        let sigma = self.scatter(st, n);
+        let m = match self.cfg.input {
+            Input::Motor { .. } => Measured::Motor {
+                fx_n: filt.fx_n,
+                ft_n: filt.f2_n,
+            },
+            Input::Dynamometer => Measured::Dynamometer {
+                fx_n: filt.fx_n,
+                fy_n: filt.f2_n,
+            },
+        };
+        let e = self.est.estimate_with_scatter(filt.tc_mm, m, sigma);
+        self.finish(st, rec, Some(e))
+    }
+
+    /// Standard error of the window mean from the scatter of its per-revolution block
+    /// means (at least two blocks, so one-revolution filters still get a figure).
+    fn scatter(&self, st: &MonitorState, n: usize) -> [f32; 2] {
+        let revs = self.cfg.filter_revs as usize;
+        let blocks = revs.max(2);
+        let mut sum = [0.0f32; 2];
+        let mut sum2 = [0.0f32; 2];
+        for b in 0..blocks {
+            let m = st.mean(b * n, n);
+            for (k, v) in [m.fx_n, m.f2_n].into_iter().enumerate() {
+                sum[k] += v;
+                sum2[k] += v * v;
+            }
+        }
+        let nb = blocks as f32;
+        [0, 1].map(|k| {
+            let mean = sum[k] / nb;
+            let var = ((sum2[k] - nb * mean * mean) / (nb - 1.0)).max(0.0);
+            libm::sqrtf(var / revs as f32)
+        })
+    }
+
+    /// Teeth a disturbance keeps the immersion flagged: the window, and at least the two
+    /// revolutions the transient test compares.
+    fn settle_teeth(&self) -> usize {
+        self.window.max(2 * self.cfg.estimator.tool.flutes as usize)
+    }
+
+    fn finish(&self, st: &MonitorState, mut rec: ToothRecord, e: Option<Estimate>) -> ToothRecord {
+        rec.fx_filt_n = st.fx_filt_n;
+        rec.f2_filt_n = st.f2_filt_n;
+        rec.tc_filt_mm = st.tc_filt_mm;
+        if let Some(e) = e {
+            rec.status |= e.status;
+            rec.method = e.method;
+            if rec.status.is_valid() {
+                let r = self.cfg.estimator.tool.radius_mm;
+                rec.rr = e.rr;
+                rec.ra = e.ra;
+                rec.dr_mm = e.dr_mm;
+                rec.da_mm = e.da_mm;
+                rec.dr_sigma_mm = e.rr_sigma * r;
+                rec.da_sigma_mm = e.ra_sigma * r;
+            }
+        }
+        rec
+    }
+}
+
+fn push(st: &mut MonitorState, e: Entry) {
+    if let Some(slot) = st.ring.get_mut(st.head) {
+        *slot = e;
+    }
+    st.head = (st.head + 1) % MAX_WINDOW;
+    st.len = (st.len + 1).min(MAX_WINDOW);
+}
+
+fn finite_or_zero(v: f32) -> f32 {
+    if v.is_finite() {
+        v
+    } else {
+        0.0
+    }
+}

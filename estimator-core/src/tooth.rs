@@ -1,0 +1,400 @@
+//! Tooth-synchronous averaging: raw samples and encoder pulses in, one mean per tooth
+//! period out (method.md section 2: the estimator works on per-tooth averages).
+//!
+//! # Design
+//! The mean of every channel over each period between two tooth boundaries. Boundaries
+//! come from the spindle encoder, either one pulse per tooth or one pulse per revolution
+//! with the revolution split into `N` equal parts using the previous revolution's length.
+//! A period is closed, flagged and still emitted when it cannot be trusted:
+//! - too short or too long for the configured speed range, or its length jumped from the
+//!   previous one by more than `max_jump` (speed change, a lost pulse: a lost pulse also
+//!   advances the tooth index by the number of teeth it swallowed);
+//! - a pulse closer than half a period to the previous one is a glitch: ignored, and the
+//!   period that contains it flagged;
+//! - no pulse for longer than the longest period: one `NO_SYNC` period is emitted and
+//!   averaging waits for the next pulse (spindle stopped, encoder unplugged);
+//! - a sample that is not finite or sits at the ADC's clipping level is left out of the
+//!   sums and the period flagged `INPUT_FAULT`.
+//!
+//! Per sample this is a handful of additions and compares; the per-tooth work lives in
+//! [`crate::monitor`].
+
+use crate::status::Status;
+
+/// Raw channels averaged per tooth: feed-axis signals X and Y, feed velocities X and Y
+/// [mm/min], spindle signal.
+pub const CHANNELS: usize = 5;
+
+/// Where tooth boundaries come from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
+pub enum SyncMode {
+    /// One pulse per tooth.
+    #[default]
+    PerTooth,
+    /// One pulse per revolution; teeth are equal fractions of the revolution.
+    PerRevolution,
+}
+
+/// Timing limits, in samples, derived once from the monitor's configuration.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Timing {
+    /// Sync source.
+    pub mode: SyncMode,
+    /// Teeth per revolution.
+    pub teeth: u8,
+    /// Shortest acceptable tooth period [samples].
+    pub min_period: u32,
+    /// Longest acceptable tooth period [samples]; beyond it, `NO_SYNC`.
+    pub max_period: u32,
+    /// Largest relative change of the period from one tooth to the next.
+    pub max_jump: f32,
+    /// Absolute level at or beyond which a sample of channels 0, 1, 4 counts as clipped.
+    pub clip: [f32; 3],
+}
+
+/// One closed tooth period.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct Period {
+    /// Index of the last sample in the period.
+    pub end_sample: u64,
+    /// Length [samples].
+    pub samples: u32,
+    /// Tooth index in the revolution (0-based; arbitrary phase with one pulse per tooth).
+    pub tooth: u8,
+    /// Channel means over the good samples.
+    pub mean: [f32; CHANNELS],
+    /// Samples left out (not finite or clipped).
+    pub bad_samples: u32,
+    /// `PERIOD_INVALID`, `NO_SYNC`, `INPUT_FAULT`, or valid.
+    pub status: Status,
+}
+
+/// Running state.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ToothState {
+    sample: u64,
+    sum: [f32; CHANNELS],
+    good: u32,
+    bad: u32,
+    /// Samples since the current period started.
+    len: u32,
+    /// Samples since the last revolution pulse (per-revolution mode).
+    since_rev: u32,
+    /// Whether a period is open (a boundary has been seen since start or the last timeout).
+    open: bool,
+    glitch: bool,
+    tooth: u8,
+    /// Previous period length [samples] (0: none yet).
+    last_len: u32,
+    /// Previous revolution length [samples] (per-revolution mode; 0: none yet).
+    rev_len: u32,
+}
+
+impl Timing {
+    /// Feeds one sample; returns a period when one closes.
+    ///
+    /// `x`: the raw channels; `sync`: an encoder pulse at this sample.
+    pub fn push(&self, st: &mut ToothState, x: &[f32; CHANNELS], sync: bool) -> Option<Period> {
+        st.sample = st.sample.wrapping_add(1);
+        let out = match self.mode {
+            SyncMode::PerTooth => self.boundary_per_tooth(st, sync),
+            SyncMode::PerRevolution => self.boundary_per_rev(st, sync),
+        };
+        // The sample that carries the pulse belongs to the new period.
+        self.accumulate(st, x);
+        out.or_else(|| self.timeout(st))
+    }
+
+    fn accumulate(&self, st: &mut ToothState, x: &[f32; CHANNELS]) {
+        if !st.open {
+            return;
+        }
+        st.len = st.len.saturating_add(1);
+        st.since_rev = st.since_rev.saturating_add(1);
+        let clipped =
+            x[0].abs() >= self.clip[0] || x[1].abs() >= self.clip[1] || x[4].abs() >= self.clip[2];
+        // `is_finite` on the sum of all channels catches any NaN/inf with one test.
+        let finite = (x[0] + x[1] + x[2] + x[3] + x[4]).is_finite();
+        if finite && !clipped {
+            for (s, v) in st.sum.iter_mut().zip(x) {
+                *s += v;
+            }
+            st.good += 1;
+        } else {
+            st.bad = st.bad.saturating_add(1);
+        }
+    }
+
+    fn boundary_per_tooth(&self, st: &mut ToothState, sync: bool) -> Option<Period> {
+        if !sync {
+            return None;
+        }
+        if !st.open {
+            self.start(st, 0);
+            return None;
+        }
+        // A pulse within half a period of the last one is noise on the encoder line.
+        if st.last_len > 0 && st.len < st.last_len / 2 {
+            st.glitch = true;
+            return None;
+        }
+        let advance = self.teeth_swallowed(st.len, st.last_len);
+        let p = self.close(st, advance);
+        Some(p)
+    }
+
+    fn boundary_per_rev(&self, st: &mut ToothState, sync: bool) -> Option<Period> {
+        let n = self.teeth as u32;
+        if sync {
+            if !st.open {
+                self.start(st, 0);
+                st.since_rev = 0;
+                return None;
+            }
+            if st.rev_len > 0 && st.since_rev < st.rev_len / 2 {
+                st.glitch = true;
+                return None;
+            }
+            // The pulse ends the last tooth of the revolution, whatever the count says.
+            let measured = st.since_rev;
+            let was_last = st.tooth as u32 + 1 == n;
+            let mut p = self.close(st, 0);
+            if !was_last || st.rev_len == 0 {
+                p.status |= Status::PERIOD_INVALID;
+            }
+            st.rev_len = measured;
+            st.since_rev = 0;
+            st.tooth = 0;
+            return Some(p);
+        }
+        if st.open && st.rev_len > 0 && (st.tooth as u32 + 1) < n {
+            let k = st.tooth as u32 + 1;
+            // Boundary k of the revolution, rounded to the nearest sample.
+            let boundary = ((k as u64 * st.rev_len as u64 + n as u64 / 2) / n as u64) as u32;
+            if st.since_rev >= boundary {
+                return Some(self.close(st, 1));
+            }
+        }
+        None
+    }
+
+    /// How many teeth a period of `len` samples spans, judged against the previous one;
+    /// 1 unless pulses were lost.
+    fn teeth_swallowed(&self, len: u32, last: u32) -> u8 {
+        if last == 0 {
+            return 1;
+        }
+        let k = (len as f32 / last as f32 + 0.5) as u32;
+        if (2..=self.teeth as u32).contains(&k) {
+            k as u8
+        } else {
+            1
+        }
+    }
+
+    fn start(&self, st: &mut ToothState, tooth: u8) {
+        st.open = true;
+        st.sum = [0.0; CHANNELS];
+        st.good = 0;
+        st.bad = 0;
+        st.len = 0;
+        st.glitch = false;
+        st.tooth = tooth;
+    }
+
+    /// Closes the open period (which ended on the previous sample) and opens the next one,
+    /// `advance` teeth later.
+    fn close(&self, st: &mut ToothState, advance: u8) -> Period {
+        let mut status = Status::VALID;
+        let len = st.len;
+        status.set_if(
+            len < self.min_period || len > self.max_period || st.glitch,
+            Status::PERIOD_INVALID,
+        );
+        if st.last_len > 0 && self.mode == SyncMode::PerTooth {
+            let jump = (len as f32 - st.last_len as f32).abs() / st.last_len as f32;
+            status.set_if(jump > self.max_jump, Status::PERIOD_INVALID);
+        }
+        status.set_if(st.bad > 0, Status::INPUT_FAULT);
+        let inv = if st.good > 0 {
+            1.0 / st.good as f32
+        } else {
+            0.0
+        };
+        let p = Period {
+            end_sample: st.sample.wrapping_sub(1),
+            samples: len,
+            tooth: st.tooth,
+            mean: st.sum.map(|s| s * inv),
+            bad_samples: st.bad,
+            status,
+        };
+        st.last_len = len;
+        let next = ((st.tooth as u32 + advance.max(1) as u32) % self.teeth.max(1) as u32) as u8;
+        let since_rev = st.since_rev;
+        self.start(st, next);
+        st.since_rev = since_rev;
+        p
+    }
+
+    /// Emits one `NO_SYNC` period when the open one outgrows every speed allowed.
+    fn timeout(&self, st: &mut ToothState) -> Option<Period> {
+        let limit = match self.mode {
+            SyncMode::PerTooth => st.len,
+            SyncMode::PerRevolution => st.since_rev / self.teeth.max(1) as u32,
+        };
+        if !st.open || limit <= self.max_period {
+            return None;
+        }
+        let mut p = self.close(st, 1);
+        p.status |= Status::NO_SYNC | Status::PERIOD_INVALID;
+        // Wait for a fresh pulse; lengths before the gap say nothing about those after it.
+        st.open = false;
+        st.last_len = 0;
+        st.rev_len = 0;
+        Some(p)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::{vec, vec::Vec};
+
+    fn timing(mode: SyncMode) -> Timing {
+        Timing {
+            mode,
+            teeth: 4,
+            min_period: 50,
+            max_period: 400,
+            max_jump: 0.1,
+            clip: [10.0, 10.0, 10.0],
+        }
+    }
+
+    /// Runs `n` samples with a pulse every `period` samples (per tooth) and channel 0 equal
+    /// to the tooth's index, returns the periods.
+    fn run(
+        t: &Timing,
+        pulses: &[u32],
+        total: u32,
+        f: impl Fn(u32) -> [f32; CHANNELS],
+    ) -> Vec<Period> {
+        let mut st = ToothState::default();
+        let mut out = Vec::new();
+        for i in 0..total {
+            if let Some(p) = t.push(&mut st, &f(i), pulses.contains(&i)) {
+                out.push(p);
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn averages_each_tooth_period_exactly() {
+        let t = timing(SyncMode::PerTooth);
+        let pulses: Vec<u32> = (0..10).map(|k| k * 100).collect();
+        // Channel 0 ramps with the sample index: the mean of a period is its midpoint.
+        let ps = run(&t, &pulses, 950, |i| [i as f32 / 100.0, 1.0, 2.0, 3.0, 4.0]);
+        assert_eq!(ps.len(), 9);
+        for (k, p) in ps.iter().enumerate() {
+            assert_eq!(p.samples, 100);
+            assert!(p.status.is_valid(), "{}", p.status);
+            let mid = (k as f32 * 100.0 + 49.5) / 100.0;
+            assert!((p.mean[0] - mid).abs() < 1e-5, "{} vs {mid}", p.mean[0]);
+            assert_eq!(p.mean[4], 4.0);
+            assert_eq!(p.tooth as usize, k % 4);
+        }
+    }
+
+    #[test]
+    fn lost_pulse_is_flagged_and_the_tooth_index_keeps_count() {
+        let t = timing(SyncMode::PerTooth);
+        let pulses: Vec<u32> = (0..12).map(|k| k * 100).filter(|&p| p != 500).collect();
+        let ps = run(&t, &pulses, 1150, |_| [1.0; CHANNELS]);
+        let teeth: Vec<u8> = ps.iter().map(|p| p.tooth).collect();
+        // Period 4 (400-600) swallowed tooth 5: index jumps 4 -> 6 (mod 4: 0 -> 2).
+        assert_eq!(teeth, vec![0, 1, 2, 3, 0, 2, 3, 0, 1, 2]);
+        assert!(ps[4].status.contains(Status::PERIOD_INVALID));
+        assert!(
+            ps[5].status.contains(Status::PERIOD_INVALID),
+            "jump back from 200 to 100"
+        );
+        assert!(ps[6].status.is_valid());
+    }
+
+    #[test]
+    fn doubled_pulse_is_a_glitch_not_a_tooth() {
+        let t = timing(SyncMode::PerTooth);
+        let mut pulses: Vec<u32> = (0..8).map(|k| k * 100).collect();
+        pulses.push(330);
+        let ps = run(&t, &pulses, 750, |_| [1.0; CHANNELS]);
+        assert_eq!(ps.len(), 7);
+        assert!(ps[3].status.contains(Status::PERIOD_INVALID));
+        assert_eq!(ps[3].samples, 100);
+        assert!(ps[4].status.is_valid());
+    }
+
+    #[test]
+    fn bad_samples_are_left_out_and_flagged() {
+        let t = timing(SyncMode::PerTooth);
+        let pulses: Vec<u32> = (0..5).map(|k| k * 100).collect();
+        let ps = run(&t, &pulses, 450, |i| match i {
+            150 => [f32::NAN, 0.0, 0.0, 0.0, 0.0],
+            250 => [10.0, 0.0, 0.0, 0.0, 2.0],
+            _ => [2.0, 0.0, 0.0, 0.0, 2.0],
+        });
+        assert!(ps[0].status.is_valid());
+        assert_eq!(ps[1].status, Status::INPUT_FAULT);
+        assert_eq!((ps[1].bad_samples, ps[1].mean[0]), (1, 2.0));
+        assert_eq!(ps[2].status, Status::INPUT_FAULT, "clipped");
+        assert!(ps[3].status.is_valid(), "recovers");
+    }
+
+    #[test]
+    fn stopped_spindle_gives_one_no_sync_period_then_recovers() {
+        let t = timing(SyncMode::PerTooth);
+        let mut pulses: Vec<u32> = (0..4).map(|k| k * 100).collect();
+        pulses.extend((0..5).map(|k| 2000 + k * 120));
+        let ps = run(&t, &pulses, 2500, |_| [1.0; CHANNELS]);
+        let no_sync: Vec<_> = ps
+            .iter()
+            .filter(|p| p.status.contains(Status::NO_SYNC))
+            .collect();
+        assert_eq!(no_sync.len(), 1);
+        let after: Vec<_> = ps.iter().filter(|p| p.end_sample > 2000).collect();
+        assert_eq!(after.len(), 4);
+        assert!(after
+            .iter()
+            .all(|p| p.status.is_valid() && p.samples == 120));
+    }
+
+    #[test]
+    fn one_pulse_per_revolution_splits_into_teeth() {
+        let t = timing(SyncMode::PerRevolution);
+        let pulses: Vec<u32> = (0..6).map(|k| k * 400).collect();
+        let ps = run(&t, &pulses, 2001, |i| {
+            [(i % 400 / 100) as f32, 0.0, 0.0, 0.0, 0.0]
+        });
+        // First revolution only measures the revolution; then 4 teeth per revolution.
+        let after: Vec<_> = ps.iter().skip(1).collect();
+        assert_eq!(after.len(), 16);
+        for p in &after {
+            assert_eq!(p.samples, 100);
+            assert!(p.status.is_valid(), "{}", p.status);
+            assert_eq!(
+                p.mean[0], p.tooth as f32,
+                "tooth {} gets its own quarter",
+                p.tooth
+            );
+        }
+    }
+
+    #[test]
+    fn nothing_before_the_first_pulse() {
+        let t = timing(SyncMode::PerTooth);
+        assert!(run(&t, &[], 5000, |_| [1.0; CHANNELS]).is_empty());
+    }
+}
