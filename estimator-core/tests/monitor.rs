@@ -2,6 +2,8 @@
 //! (tests/common) through drive models with lag and noise, encoder pulses, into the
 //! Monitor; estimates checked against the cut that produced them.
 
+#![allow(clippy::unwrap_used)]
+
 mod common;
 
 use common::{instantaneous, Rng};
@@ -87,7 +89,6 @@ struct Truth {
     seg: usize,
     dr_mm: f64,
     da_mm: f64,
-    tc_mm: f64,
 }
 
 /// Generates the scenario's samples and hands each (with its truth) to `f`.
@@ -104,7 +105,6 @@ fn generate(sc: &Scenario, mut f: impl FnMut(&Sample, Truth)) {
     let mut rng = Rng::new(sc.seed);
     let (mut theta, mut i_feed, mut i_sp) = (0.0f64, f64::NAN, f64::NAN);
     let mut last_tooth = 0i64;
-    let mut t_seg = 0.0;
     for (k, seg) in sc.segs.iter().enumerate() {
         let tc = seg.feed_mm_min / (n as f64 * seg.rpm);
         // Runout: flute j cuts the chip left by flute j-1 plus the difference of offsets.
@@ -175,13 +175,10 @@ fn generate(sc: &Scenario, mut f: impl FnMut(&Sample, Truth)) {
                     seg: k,
                     dr_mm: seg.dr_mm,
                     da_mm: seg.da_mm,
-                    tc_mm: tc,
                 },
             );
         }
-        t_seg += seg.dur_s;
     }
-    let _ = t_seg;
 }
 
 /// Runs the monitor over a scenario; returns records with the truth at their end.

@@ -13,6 +13,7 @@ use std::f64::consts::PI;
 /// Instantaneous total forces on the cutter `(F_t-sum, F_x, F_y)` [N] at rotation angle
 /// `theta` of flute 0, for chip loads `tc_per_flute` (runout makes them unequal) and the
 /// coefficients held at the nominal `t_a`.
+#[allow(clippy::too_many_arguments)]
 pub fn instantaneous(
     tool: &Tool,
     coeffs: &CuttingCoefficients,
