@@ -13,6 +13,7 @@
 #[cfg(test)]
 extern crate std;
 
+pub mod alarm;
 pub mod coefficients;
 pub mod conformance;
 pub mod drive;

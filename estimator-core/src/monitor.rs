@@ -35,6 +35,12 @@ pub const MAX_WINDOW: usize = 64;
 /// per tooth at 600 rpm, 4 flutes).
 const MAX_TURN_COS: f32 = 0.9986;
 
+/// Weight of a new tooth in the running noise variance (memory of about 64 teeth).
+const NOISE_ALPHA: f32 = 1.0 / 64.0;
+/// A change of the revolution mean counts as a transient beyond this many standard
+/// deviations of its noise.
+const NOISE_SIGMAS: f32 = 4.0;
+
 /// What the analog inputs carry.
 // No heap to box the large variant into, and there is one of these per monitor.
 #[allow(clippy::large_enum_variant)]
@@ -297,6 +303,8 @@ pub struct MonitorState {
     settle: usize,
     /// Feed direction (unit vector) of the last valid tooth.
     dir: [f32; 2],
+    /// Running variance of same-flute force differences less their common part [N^2].
+    noise_var: f32,
     /// Last filtered output (kept through invalid periods, for display).
     fx_filt_n: f32,
     f2_filt_n: f32,
@@ -312,6 +320,7 @@ impl Default for MonitorState {
             len: 0,
             settle: 0,
             dir: [0.0; 2],
+            noise_var: 0.0,
             fx_filt_n: 0.0,
             f2_filt_n: 0.0,
             tc_filt_mm: 0.0,
@@ -443,7 +452,7 @@ impl Monitor {
         st.dir = dir;
         push(st, Entry { fx_n, f2_n, tc_mm });
         // Transient: the newest revolution against the one before (both runout-free).
-        if st.len >= 2 * n {
+        if st.len > 2 * n {
             let now = st.mean(0, n);
             let before = st.mean(n, n);
             let mag = |e: &Entry| match self.cfg.input {
@@ -451,9 +460,20 @@ impl Monitor {
                 Input::Dynamometer => libm::hypotf(e.fx_n, e.f2_n),
             };
             let (a, b) = (mag(&now), mag(&before));
+            // Noise floor: the same flute one revolution apart, less the common change of
+            // the two revolutions, is noise (and runout drift) alone; its running variance
+            // sets how large a change of the revolution mean is more than noise.
+            let (new, old) = (st.back(0), st.back(n));
+            let r_mag = (mag(&new) - mag(&old)) - (a - b);
+            let r_fx = (new.fx_n - old.fx_n) - (now.fx_n - before.fx_n);
+            let r2 = (r_mag * r_mag).max(r_fx * r_fx);
+            if r2.is_finite() {
+                st.noise_var += NOISE_ALPHA * (r2 - st.noise_var);
+            }
+            let noise = NOISE_SIGMAS * libm::sqrtf(st.noise_var / (n as f32 - 1.0).max(1.0));
             // The feed force is held to the same scale: it can change alone (a reversal
             // turns down milling into up milling at the same tangential force).
-            let limit = self.cfg.transient_rel * a.abs().max(b.abs());
+            let limit = (self.cfg.transient_rel * a.abs().max(b.abs())).max(noise);
             if (a - b).abs() > limit || (now.fx_n - before.fx_n).abs() > limit {
                 rec.status |= Status::TRANSIENT;
                 st.settle = self.settle_teeth();

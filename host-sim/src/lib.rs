@@ -12,3 +12,5 @@ pub mod config;
 pub mod estimate;
 pub mod gen_poly;
 pub mod lstsq;
+pub mod trace;
+pub mod voxel;

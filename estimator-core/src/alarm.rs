@@ -1,0 +1,741 @@
+//! Alarms on the per-tooth records: flute breakage, tool gone, overload, teach-in
+//! excursions, and a wear (drift) warning (method.md sections 4-5).
+//!
+//! # Design
+//! One small state machine fed with every [`ToothRecord`]; alarms latch until
+//! [`Alarms::reset`]. Every alarm carries its cause, the value and threshold that raised it
+//! and the record. Thresholds follow the engagement: they scale with the force eq. 7
+//! predicts at the estimated (or configured) engagement and the current feed per tooth.
+//!
+//! - Breakage (Altintas and Yellowley): per-tooth resultant `F_i`, its first difference
+//!   `D_i = F_i - F_{i-1}` and the change of that from the same tooth one revolution
+//!   earlier, `E_i = D_i - D_{i-N}`. Steady runout repeats every revolution and cancels in
+//!   `E`; a change common to all teeth (engagement, feed) gives a single spike of `E`; a
+//!   flute that breaks hands its chip to the next flute and gives a `-, +, -` burst. An
+//!   alarm needs `debounce_teeth` exceedances of `|E_i| > k F_expected` within one
+//!   revolution, of both signs (a change of engagement moves every tooth one way, and a
+//!   step that falls inside a tooth period gives two exceedances of one sign). Not
+//!   decided on feed/speed changes, air cuts or bad input.
+//! - Tool gone: the force falls from a steady cut near its recent peak to the not-cutting
+//!   floor within a few teeth while the feed goes on. An exit from the part lowers the
+//!   force over revolutions first; a lost tool does not.
+//! - Overload: the revolution-mean force above what the configured maximum engagement
+//!   gives at the current feed per tooth (eq. 7), or above a force limit.
+//! - Teach-in: a recorded good cut's revolution-mean force against revolutions since the
+//!   cut began ([`Envelope`]); excursions beyond its band alarm.
+//! - Wear: exponentially weighted recursive least squares with one parameter (paper 002's
+//!   single-parameter variant) tracks `theta` in `F_measured = theta * F_model`. Against the
+//!   estimated engagement a uniform rise of `K_s` cannot be told from a deeper cut (both
+//!   scale the forces), so the multiplier is meaningful against a known engagement: the
+//!   taught or programmed one ([`DriftReference::Known`]).
+//!
+//! Cost: a few dozen operations per tooth; eq. 7 (two `powf`) only when a breakage
+//! candidate needs its threshold or the feed changed (overload limit).
+
+use crate::estimator::EstimatorConfig;
+use crate::forward::{AverageForces, Operating};
+use crate::monitor::ToothRecord;
+use crate::status::Status;
+use crate::ConfigError;
+
+/// Teeth of history kept: two revolutions of the largest tool plus one.
+const HISTORY: usize = 33;
+/// Most flutes the alarms handle (HISTORY = 2 N + 1).
+pub const MAX_FLUTES: usize = 16;
+/// Bins of a taught envelope.
+pub const ENVELOPE_BINS: usize = 128;
+
+/// Which per-tooth force the breakage detector watches.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
+pub enum BreakageSignal {
+    /// `hypot(F_ax, F_2)`: both channels (needs a spindle signal with tooth bandwidth).
+    #[default]
+    Resultant,
+    /// `F_ax` alone: for a spindle-load input updated too slowly to resolve teeth.
+    Feed,
+}
+
+/// Flute-breakage detector.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct BreakageConfig {
+    /// Off: never raises.
+    pub enabled: bool,
+    /// `k`: threshold on `|E_i|` as a fraction of the expected per-tooth force.
+    pub threshold_rel: f32,
+    /// Exceedances within one revolution that make an alarm (1 = no debounce).
+    pub debounce_teeth: u8,
+    /// Signal watched.
+    pub signal: BreakageSignal,
+}
+
+/// Tool-gone detector.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct ToolGoneConfig {
+    /// Off: never raises.
+    pub enabled: bool,
+    /// The force must fall from a steady cut to the floor within this many teeth.
+    pub max_drop_teeth: u8,
+}
+
+/// Overload detector.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct OverloadConfig {
+    /// Off: never raises.
+    pub enabled: bool,
+    /// Largest radial immersion ratio the job may take.
+    pub max_rr: f32,
+    /// Largest axial immersion ratio.
+    pub max_ra: f32,
+    /// Absolute cap on the revolution-mean resultant [N] (infinite: none).
+    pub force_limit_n: f32,
+    /// Consecutive teeth above the limit that make an alarm.
+    pub debounce_teeth: u8,
+}
+
+/// What the wear multiplier is measured against.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
+pub enum DriftReference {
+    /// The monitor's own estimate (sees only wear that changes the force ratio).
+    #[default]
+    Estimated,
+    /// A known engagement (taught or programmed).
+    Known {
+        /// Radial immersion ratio.
+        rr: f32,
+        /// Axial immersion ratio.
+        ra: f32,
+    },
+}
+
+/// Wear tracking by EWRLS.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct DriftConfig {
+    /// Off: multiplier stays 1.
+    pub enabled: bool,
+    /// Forgetting factor `lambda` in `(0, 1]` (0.995: memory of about 200 teeth).
+    pub lambda: f32,
+    /// Multiplier above which the wear warning is on.
+    pub warn_multiplier: f32,
+    /// Reference engagement.
+    pub reference: DriftReference,
+}
+
+/// A taught force envelope: revolution-mean resultant [N] per bin of `revs_per_bin`
+/// revolutions since the cut began.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct Envelope {
+    /// Revolutions per bin.
+    pub revs_per_bin: u16,
+    /// Bins in use.
+    pub len: u16,
+    /// Lowest force seen in each bin [N].
+    #[cfg_attr(feature = "serde", serde(with = "serde_arrays"))]
+    pub lo_n: [f32; ENVELOPE_BINS],
+    /// Highest force seen in each bin [N].
+    #[cfg_attr(feature = "serde", serde(with = "serde_arrays"))]
+    pub hi_n: [f32; ENVELOPE_BINS],
+}
+
+/// Teach-in check.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct TeachConfig {
+    /// Allowed excursion beyond the taught band, relative to the band's edge.
+    pub tolerance_rel: f32,
+    /// Consecutive teeth outside that make an alarm.
+    pub debounce_teeth: u8,
+    /// The envelope; none: teach-in off.
+    pub envelope: Option<Envelope>,
+}
+
+/// All detectors.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct AlarmConfig {
+    /// Flute breakage.
+    pub breakage: BreakageConfig,
+    /// Tool gone.
+    pub tool_gone: ToolGoneConfig,
+    /// Overload.
+    pub overload: OverloadConfig,
+    /// Wear drift.
+    pub drift: DriftConfig,
+    /// Teach-in.
+    pub teach: TeachConfig,
+}
+
+impl Default for AlarmConfig {
+    fn default() -> Self {
+        AlarmConfig {
+            breakage: BreakageConfig {
+                enabled: true,
+                threshold_rel: 0.3,
+                debounce_teeth: 2,
+                signal: BreakageSignal::Resultant,
+            },
+            tool_gone: ToolGoneConfig {
+                enabled: true,
+                max_drop_teeth: 3,
+            },
+            overload: OverloadConfig {
+                enabled: true,
+                max_rr: 2.0,
+                max_ra: 2.5,
+                force_limit_n: f32::INFINITY,
+                debounce_teeth: 4,
+            },
+            drift: DriftConfig {
+                enabled: true,
+                lambda: 0.995,
+                warn_multiplier: 1.3,
+                reference: DriftReference::Estimated,
+            },
+            teach: TeachConfig {
+                tolerance_rel: 0.25,
+                debounce_teeth: 4,
+                envelope: None,
+            },
+        }
+    }
+}
+
+impl AlarmConfig {
+    /// Validates against the estimator configuration the monitor runs with.
+    pub fn build(self, est: &EstimatorConfig) -> Result<Alarms, ConfigError> {
+        use ConfigError::*;
+        est.tool.validate()?;
+        est.coeffs.validate()?;
+        let n = est.tool.flutes as usize;
+        if n > MAX_FLUTES {
+            return Err(OutOfRange("flutes"));
+        }
+        let b = &self.breakage;
+        if !(b.threshold_rel.is_finite() && b.threshold_rel > 0.0) {
+            return Err(OutOfRange("breakage.threshold_rel"));
+        }
+        if b.debounce_teeth == 0 || b.debounce_teeth as usize > n.max(1) {
+            return Err(OutOfRange("breakage.debounce_teeth"));
+        }
+        if self.tool_gone.max_drop_teeth == 0 {
+            return Err(OutOfRange("tool_gone.max_drop_teeth"));
+        }
+        let o = &self.overload;
+        if !(o.max_rr > 0.0 && o.max_rr <= 2.0) {
+            return Err(OutOfRange("overload.max_rr"));
+        }
+        if !(o.max_ra.is_finite() && o.max_ra > 0.0) {
+            return Err(OutOfRange("overload.max_ra"));
+        }
+        if o.force_limit_n.is_nan() || o.force_limit_n <= 0.0 {
+            return Err(OutOfRange("overload.force_limit_n"));
+        }
+        if o.debounce_teeth == 0 {
+            return Err(OutOfRange("overload.debounce_teeth"));
+        }
+        let d = &self.drift;
+        if !(d.lambda > 0.0 && d.lambda <= 1.0) {
+            return Err(OutOfRange("drift.lambda"));
+        }
+        if !(d.warn_multiplier.is_finite() && d.warn_multiplier > 1.0) {
+            return Err(OutOfRange("drift.warn_multiplier"));
+        }
+        if let DriftReference::Known { rr, ra } = d.reference {
+            if !(rr > 0.0 && rr <= 2.0 && ra.is_finite() && ra > 0.0) {
+                return Err(OutOfRange("drift.reference"));
+            }
+        }
+        let t = &self.teach;
+        if !(t.tolerance_rel.is_finite() && t.tolerance_rel >= 0.0) {
+            return Err(OutOfRange("teach.tolerance_rel"));
+        }
+        if t.debounce_teeth == 0 {
+            return Err(OutOfRange("teach.debounce_teeth"));
+        }
+        if let Some(e) = &t.envelope {
+            if e.revs_per_bin == 0 || e.len as usize > ENVELOPE_BINS {
+                return Err(OutOfRange("teach.envelope"));
+            }
+        }
+        Ok(Alarms {
+            cfg: self,
+            est: *est,
+            n,
+        })
+    }
+}
+
+/// Why an alarm was raised.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
+pub enum Cause {
+    /// A flute broke or chipped.
+    Breakage,
+    /// The force collapsed while feeding: tool gone.
+    ToolGone,
+    /// Force above the engagement or force limit.
+    Overload,
+    /// Force outside the taught envelope.
+    TeachExcursion,
+    /// Wear multiplier above its warning level (a warning: does not latch the output).
+    Wear,
+}
+
+impl Cause {
+    /// Short name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Cause::Breakage => "breakage",
+            Cause::ToolGone => "tool_gone",
+            Cause::Overload => "overload",
+            Cause::TeachExcursion => "teach_excursion",
+            Cause::Wear => "wear",
+        }
+    }
+}
+
+/// An alarm (or warning) as raised.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct AlarmEvent {
+    /// Why.
+    pub cause: Cause,
+    /// The quantity that crossed its threshold (force [N], or the multiplier for wear).
+    pub value: f32,
+    /// The threshold it crossed.
+    pub threshold: f32,
+    /// The record that raised it.
+    pub record: ToothRecord,
+}
+
+/// What the alarms say after a record.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct AlarmOutput {
+    /// Raised by this record (alarms and the wear warning's first crossing).
+    pub event: Option<AlarmEvent>,
+    /// An alarm is latched: the output to the CNC must drop.
+    pub latched: bool,
+    /// Wear multiplier `theta` (1: as new).
+    pub wear: f32,
+    /// Wear multiplier above its warning level.
+    pub wear_warning: bool,
+}
+
+#[derive(Clone, Copy, Debug, Default)]
+struct Tooth {
+    f_n: f32,
+    tooth: u8,
+    armed: bool,
+}
+
+/// Running state of [`Alarms`]: a few hundred bytes.
+#[derive(Clone, Copy, Debug)]
+pub struct AlarmState {
+    hist: [Tooth; HISTORY],
+    head: usize,
+    /// Bit i: tooth i records back exceeded the breakage threshold upwards / downwards.
+    exceed_pos: u32,
+    exceed_neg: u32,
+    /// Last valid estimate `(rr, ra)`, while cutting.
+    held: Option<(f32, f32)>,
+    /// Teeth since the last steady (armed, not transient) cutting record, and its force.
+    since_steady: u32,
+    steady_force_n: f32,
+    /// Recent peak of the steady force (decaying).
+    peak_force_n: f32,
+    overload_run: u8,
+    teach_run: u8,
+    /// Teeth since the cut began (for the envelope).
+    cut_teeth: u32,
+    /// Cached overload limit and the feed it was computed for.
+    limit_tc_mm: f32,
+    limit_n: f32,
+    theta: f32,
+    p: f32,
+    wear_warned: bool,
+    latched: Option<AlarmEvent>,
+}
+
+impl Default for AlarmState {
+    fn default() -> Self {
+        AlarmState {
+            hist: [Tooth::default(); HISTORY],
+            head: 0,
+            exceed_pos: 0,
+            exceed_neg: 0,
+            held: None,
+            since_steady: u32::MAX,
+            steady_force_n: 0.0,
+            peak_force_n: 0.0,
+            overload_run: 0,
+            teach_run: 0,
+            cut_teeth: 0,
+            limit_tc_mm: f32::NAN,
+            limit_n: f32::INFINITY,
+            theta: 1.0,
+            p: P0,
+            wear_warned: false,
+            latched: None,
+        }
+    }
+}
+
+/// Per-tooth decay of the recent steady-force peak (tool gone vs exit).
+const PEAK_DECAY: f32 = 0.98;
+
+/// Initial covariance of the wear multiplier (large: the first teeth decide).
+const P0: f32 = 1.0;
+
+impl AlarmState {
+    /// The latched alarm, if any.
+    pub fn latched(&self) -> Option<&AlarmEvent> {
+        self.latched.as_ref()
+    }
+
+    fn back(&self, k: usize) -> Tooth {
+        let i = (self.head + HISTORY - 1 - k % HISTORY) % HISTORY;
+        self.hist.get(i).copied().unwrap_or_default()
+    }
+}
+
+/// Record flags that make a tooth's force unusable: no cut, or bad data.
+const BAD_DATA: Status = Status(
+    Status::NOT_CUTTING.0
+        | Status::NON_FINITE.0
+        | Status::PERIOD_INVALID.0
+        | Status::NO_SYNC.0
+        | Status::INPUT_FAULT.0,
+);
+
+/// Flags that also keep the breakage detector from deciding. Not `TRANSIENT`: the
+/// monitor's sliding revolution means see a breakage as a transient for a revolution
+/// (the redistributed chip enters the newest block before its counterpart does), and the
+/// detector tells a breakage from an engagement change by itself (see `process`).
+const NO_BREAKAGE_DECISION: Status = Status(BAD_DATA.0 | Status::FEED_CHANGE.0);
+
+/// Validated alarms.
+#[derive(Clone, Copy, Debug)]
+pub struct Alarms {
+    cfg: AlarmConfig,
+    est: EstimatorConfig,
+    n: usize,
+}
+
+impl Alarms {
+    /// The configuration.
+    pub fn config(&self) -> &AlarmConfig {
+        &self.cfg
+    }
+
+    /// Clears the latched alarm (the operator's reset); detectors start afresh.
+    pub fn reset(&self, st: &mut AlarmState) {
+        let (theta, p) = (st.theta, st.p);
+        *st = AlarmState::default();
+        // Wear is a property of the tool, not of the alarm: keep it.
+        st.theta = theta;
+        st.p = p;
+    }
+
+    /// Per-tooth force watched by the breakage detector.
+    fn signal(&self, fx: f32, f2: f32) -> f32 {
+        match self.cfg.breakage.signal {
+            BreakageSignal::Resultant => libm::hypotf(fx, f2),
+            BreakageSignal::Feed => fx,
+        }
+    }
+
+    /// Eq. 7 forces at an engagement, as the watched signal.
+    fn model_signal(&self, rr: f32, ra: f32, tc_mm: f32) -> f32 {
+        let op = Operating::new(&self.est.coeffs, self.est.mode, rr, tc_mm);
+        let f: AverageForces = op.forces(&self.est.coeffs, &self.est.tool, tc_mm, ra);
+        // The monitor's second force is F_at (motor) or F_ay (dynamometer); the motor
+        // route is the product's, and for the resultant the difference is second order.
+        self.signal(f.fx_n, f.ft_n).abs()
+    }
+
+    /// Feeds one record.
+    pub fn process(&self, st: &mut AlarmState, rec: &ToothRecord) -> AlarmOutput {
+        let n = self.n;
+        let armed = !rec.status.intersects(BAD_DATA);
+        let f = self.signal(rec.fx_n, rec.f2_n);
+        let f = if f.is_finite() { f } else { 0.0 };
+        // A lost or swallowed tooth breaks the tooth alignment the detector relies on.
+        if rec.status.contains(Status::PERIOD_INVALID) || rec.status.contains(Status::NO_SYNC) {
+            st.hist = [Tooth::default(); HISTORY];
+            st.exceed_pos = 0;
+            st.exceed_neg = 0;
+        }
+        if rec.status.is_valid() {
+            st.held = Some((rec.rr, rec.ra));
+        }
+        if rec.status.contains(Status::NOT_CUTTING) && !self.gone_candidate(st, rec) {
+            st.held = None;
+        }
+        st.hist[st.head % HISTORY] = Tooth {
+            f_n: f,
+            tooth: rec.tooth,
+            armed,
+        };
+        st.head = (st.head + 1) % HISTORY;
+        st.exceed_pos <<= 1;
+        st.exceed_neg <<= 1;
+
+        let mut raised: Option<AlarmEvent> = None;
+        let mut raise = |cause, value, threshold| {
+            if raised.is_none() {
+                raised = Some(AlarmEvent {
+                    cause,
+                    value,
+                    threshold,
+                    record: *rec,
+                });
+            }
+        };
+
+        // Revolution mean of the watched force (runout-free), when the last N are armed.
+        let rev_mean = (0..n)
+            .all(|k| st.back(k).armed)
+            .then(|| (0..n).map(|k| st.back(k).f_n).sum::<f32>() / n as f32);
+
+        // --- breakage ---------------------------------------------------------------
+        // A flute that breaks (or chips) hands its chip to the next flute: the per-tooth
+        // pattern redistributes, so `E` swings both ways within a revolution while the
+        // revolution total stays. Engagement, feed and speed changes move every tooth the
+        // same way: `E` then has one sign. Both signs are required.
+        let deciding = !rec.status.intersects(NO_BREAKAGE_DECISION);
+        if self.cfg.breakage.enabled && deciding {
+            if let Some(e) = self.first_difference_change(st) {
+                let k = self.cfg.breakage.threshold_rel;
+                let measured = rev_mean.unwrap_or(f);
+                // Cheap screen first: the model threshold is only needed near the limit.
+                if e.abs() > 0.5 * k * measured {
+                    let expected = match st.held {
+                        Some((rr, ra)) => self.model_signal(rr, ra, rec.tc_mm),
+                        None => measured,
+                    };
+                    let threshold = k * expected;
+                    if e.abs() > threshold {
+                        if e > 0.0 {
+                            st.exceed_pos |= 1;
+                        } else {
+                            st.exceed_neg |= 1;
+                        }
+                        let mask = if n >= 32 { u32::MAX } else { (1u32 << n) - 1 };
+                        let (pos, neg) = (st.exceed_pos & mask, st.exceed_neg & mask);
+                        let count = (pos | neg).count_ones();
+                        if pos != 0 && neg != 0 && count >= self.cfg.breakage.debounce_teeth as u32
+                        {
+                            raise(Cause::Breakage, e.abs(), threshold);
+                        }
+                    }
+                }
+            }
+        }
+
+        // --- tool gone ----------------------------------------------------------------
+        let steady = armed && !rec.status.contains(Status::TRANSIENT) && st.held.is_some();
+        // The recent peak decays over about 50 teeth: an exit from the part lowers the force
+        // over revolutions, so its last steady force is far below the peak of the moments
+        // before; a tool lost mid-cut goes from full force to nothing.
+        st.peak_force_n *= PEAK_DECAY;
+        if steady {
+            st.since_steady = 0;
+            st.steady_force_n = rev_mean.unwrap_or(f);
+            st.peak_force_n = st.peak_force_n.max(st.steady_force_n);
+        } else {
+            st.since_steady = st.since_steady.saturating_add(1);
+        }
+        if self.cfg.tool_gone.enabled && self.gone_candidate(st, rec) {
+            raise(Cause::ToolGone, f, self.est.force_floor_n);
+            st.held = None;
+        }
+
+        // --- overload -----------------------------------------------------------------
+        if let (true, Some(mean)) = (self.cfg.overload.enabled, rev_mean) {
+            let o = &self.cfg.overload;
+            if !(libm::fabsf(rec.tc_mm - st.limit_tc_mm) <= 0.01 * rec.tc_mm) {
+                st.limit_tc_mm = rec.tc_mm;
+                st.limit_n = self
+                    .model_signal(o.max_rr, o.max_ra, rec.tc_mm)
+                    .min(o.force_limit_n);
+            }
+            if mean > st.limit_n {
+                st.overload_run = st.overload_run.saturating_add(1);
+                if st.overload_run >= o.debounce_teeth {
+                    raise(Cause::Overload, mean, st.limit_n);
+                }
+            } else {
+                st.overload_run = 0;
+            }
+        }
+
+        // --- teach-in -----------------------------------------------------------------
+        if rec.status.contains(Status::NOT_CUTTING) {
+            st.cut_teeth = 0;
+        } else {
+            st.cut_teeth = st.cut_teeth.saturating_add(1);
+        }
+        if let (Some(env), Some(mean)) = (&self.cfg.teach.envelope, rev_mean) {
+            let bin = (st.cut_teeth as usize / n.max(1)) / env.revs_per_bin.max(1) as usize;
+            if bin < env.len as usize {
+                let (lo, hi) = (
+                    env.lo_n.get(bin).copied().unwrap_or(0.0),
+                    env.hi_n.get(bin).copied().unwrap_or(f32::INFINITY),
+                );
+                let tol = self.cfg.teach.tolerance_rel;
+                let (lo, hi) = (lo * (1.0 - tol), hi * (1.0 + tol));
+                if mean < lo || mean > hi {
+                    st.teach_run = st.teach_run.saturating_add(1);
+                    if st.teach_run >= self.cfg.teach.debounce_teeth {
+                        raise(Cause::TeachExcursion, mean, if mean > hi { hi } else { lo });
+                    }
+                } else {
+                    st.teach_run = 0;
+                }
+            }
+        }
+
+        // --- wear (EWRLS, one parameter) --------------------------------------------
+        let mut wear_event = None;
+        if self.cfg.drift.enabled && rec.status.is_valid() {
+            let (rr, ra) = match self.cfg.drift.reference {
+                DriftReference::Estimated => (rec.rr, rec.ra),
+                DriftReference::Known { rr, ra } => (rr, ra),
+            };
+            let phi = self.model_signal(rr, ra, rec.tc_filt_mm);
+            let y = self.signal(rec.fx_filt_n, rec.f2_filt_n).abs();
+            if phi > 0.0 && phi.is_finite() && y.is_finite() {
+                // Regressor scaled to order one so that P stays well conditioned in f32.
+                let (x, z) = (1.0, y / phi);
+                let lambda = self.cfg.drift.lambda;
+                let gain = st.p * x / (lambda + x * x * st.p);
+                st.theta += gain * (z - x * st.theta);
+                st.p = (st.p - gain * x * st.p) / lambda;
+            }
+            let warn = st.theta > self.cfg.drift.warn_multiplier;
+            if warn && !st.wear_warned {
+                wear_event = Some(AlarmEvent {
+                    cause: Cause::Wear,
+                    value: st.theta,
+                    threshold: self.cfg.drift.warn_multiplier,
+                    record: *rec,
+                });
+            }
+            st.wear_warned = warn;
+        }
+
+        let mut event = None;
+        if let (None, Some(e)) = (st.latched, raised) {
+            st.latched = Some(e);
+            event = Some(e);
+        }
+        AlarmOutput {
+            event: event.or(wear_event),
+            latched: st.latched.is_some(),
+            wear: st.theta,
+            wear_warning: st.wear_warned,
+        }
+    }
+
+    /// `E_i = D_i - D_{i-N}` for the newest tooth, when all four teeth it needs are armed
+    /// and the tooth indices line up.
+    fn first_difference_change(&self, st: &AlarmState) -> Option<f32> {
+        let n = self.n;
+        let (a, b, c, d) = (st.back(0), st.back(1), st.back(n), st.back(n + 1));
+        let ok =
+            a.armed && b.armed && c.armed && d.armed && a.tooth == c.tooth && b.tooth == d.tooth;
+        ok.then(|| (a.f_n - b.f_n) - (c.f_n - d.f_n))
+    }
+
+    /// Whether `rec` is a force collapse right after a steady cut while feeding.
+    fn gone_candidate(&self, st: &AlarmState, rec: &ToothRecord) -> bool {
+        rec.status.contains(Status::NOT_CUTTING)
+            && rec.tc_mm > 0.0
+            && st.since_steady <= self.cfg.tool_gone.max_drop_teeth as u32
+            && st.steady_force_n > 3.0 * self.est.force_floor_n
+            && st.steady_force_n >= 0.5 * st.peak_force_n
+    }
+}
+
+/// Records a taught envelope from a good cut's records.
+#[derive(Clone, Copy, Debug)]
+pub struct EnvelopeRecorder {
+    env: Envelope,
+    teeth: u32,
+    flutes: usize,
+    window: [f32; MAX_FLUTES],
+}
+
+impl EnvelopeRecorder {
+    /// A recorder for a tool of `flutes` flutes, `revs_per_bin` revolutions per bin.
+    pub fn new(flutes: u8, revs_per_bin: u16) -> Self {
+        EnvelopeRecorder {
+            env: Envelope {
+                revs_per_bin: revs_per_bin.max(1),
+                len: 0,
+                lo_n: [f32::INFINITY; ENVELOPE_BINS],
+                hi_n: [0.0; ENVELOPE_BINS],
+            },
+            teeth: 0,
+            flutes: (flutes as usize).clamp(1, MAX_FLUTES),
+            window: [0.0; MAX_FLUTES],
+        }
+    }
+
+    /// Adds a record of the good cut (air before the cut is skipped; the same resultant
+    /// revolution mean as the detector's).
+    pub fn push(&mut self, rec: &ToothRecord) {
+        if rec.status.contains(Status::NOT_CUTTING) && self.teeth == 0 {
+            return;
+        }
+        let f = libm::hypotf(rec.fx_n, rec.f2_n);
+        if let Some(w) = self.window.get_mut(self.teeth as usize % self.flutes) {
+            *w = if f.is_finite() { f } else { 0.0 };
+        }
+        self.teeth += 1;
+        if (self.teeth as usize) < self.flutes {
+            return;
+        }
+        let mean = self.window.iter().take(self.flutes).sum::<f32>() / self.flutes as f32;
+        let bin = (self.teeth as usize / self.flutes) / self.env.revs_per_bin as usize;
+        if let (Some(lo), Some(hi)) = (self.env.lo_n.get_mut(bin), self.env.hi_n.get_mut(bin)) {
+            *lo = lo.min(mean);
+            *hi = hi.max(mean);
+            self.env.len = self.env.len.max(bin as u16 + 1);
+        }
+    }
+
+    /// The envelope so far.
+    pub fn finish(&self) -> Envelope {
+        self.env
+    }
+}
+
+#[cfg(feature = "serde")]
+mod serde_arrays {
+    //! serde for `[f32; ENVELOPE_BINS]` (serde derives arrays only up to 32).
+    use super::ENVELOPE_BINS;
+    use serde::{de::Error, Deserialize, Deserializer, Serialize, Serializer};
+
+    pub fn serialize<S: Serializer>(a: &[f32; ENVELOPE_BINS], s: S) -> Result<S::Ok, S::Error> {
+        a.as_slice().serialize(s)
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<[f32; ENVELOPE_BINS], D::Error> {
+        let v = heapless::Vec::<f32, ENVELOPE_BINS>::deserialize(d)?;
+        let mut a = [0.0; ENVELOPE_BINS];
+        a.get_mut(..v.len())
+            .ok_or_else(|| D::Error::custom("too many bins"))?
+            .copy_from_slice(&v);
+        Ok(a)
+    }
+}
