@@ -562,7 +562,9 @@ impl Alarms {
         // --- overload -----------------------------------------------------------------
         if let (true, Some(mean)) = (self.cfg.overload.enabled, rev_mean) {
             let o = &self.cfg.overload;
-            if !(libm::fabsf(rec.tc_mm - st.limit_tc_mm) <= 0.01 * rec.tc_mm) {
+            // Recomputed when the feed moved by 1 % (the cache starts as NaN: recompute).
+            let cached = libm::fabsf(rec.tc_mm - st.limit_tc_mm) <= 0.01 * rec.tc_mm;
+            if !cached {
                 st.limit_tc_mm = rec.tc_mm;
                 st.limit_n = self
                     .model_signal(o.max_rr, o.max_ra, rec.tc_mm)
@@ -653,7 +655,7 @@ impl Alarms {
         let (a, b, c, d) = (st.back(0), st.back(1), st.back(n), st.back(n + 1));
         let ok =
             a.armed && b.armed && c.armed && d.armed && a.tooth == c.tooth && b.tooth == d.tooth;
-        ok.then(|| (a.f_n - b.f_n) - (c.f_n - d.f_n))
+        ok.then_some((a.f_n - b.f_n) - (c.f_n - d.f_n))
     }
 
     /// Whether `rec` is a force collapse right after a steady cut while feeding.
