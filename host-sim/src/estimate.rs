@@ -23,7 +23,18 @@ pub const FT: &str = "ft_n";
 /// Column of the force normal to the feed `F_ay`, N (dynamometer route).
 pub const FY: &str = "fy_n";
 /// Columns appended to every row, in order.
-pub const OUTPUT_COLUMNS: [&str; 6] = ["rr", "ra", "dr_mm", "da_mm", "status", "method"];
+/// `dr_sigma_mm`, `da_sigma_mm`: 1-sigma from the tool file's `estimator.gain_uncertainty`
+/// (a per-row force scatter is not known here; replay reports it from the filter).
+pub const OUTPUT_COLUMNS: [&str; 8] = [
+    "rr",
+    "ra",
+    "dr_mm",
+    "da_mm",
+    "status",
+    "method",
+    "dr_sigma_mm",
+    "da_sigma_mm",
+];
 
 /// Which measured pair to use.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -129,7 +140,7 @@ fn measured(rec: &csv::StringRecord, lay: &Layout, file: &str) -> Result<(f32, M
 }
 
 /// The appended fields of one estimate, in [`OUTPUT_COLUMNS`] order.
-fn fields(e: &Estimate) -> [String; 6] {
+fn fields(e: &Estimate, radius_mm: f32) -> [String; 8] {
     [
         e.rr.to_string(),
         e.ra.to_string(),
@@ -137,6 +148,8 @@ fn fields(e: &Estimate) -> [String; 6] {
         e.da_mm.to_string(),
         e.status.to_string(),
         e.method.name().to_string(),
+        (e.rr_sigma * radius_mm).to_string(),
+        (e.ra_sigma * radius_mm).to_string(),
     ]
 }
 
@@ -186,7 +199,7 @@ pub fn run(
         summary.rows += 1;
         summary.valid += u64::from(e.status.is_valid());
         let mut row = rec.clone();
-        row.extend(fields(&e));
+        row.extend(fields(&e, est.config().tool.radius_mm));
         wr.write_record(&row).context("writing the output")?;
     }
     wr.flush().context("writing the output")?;

@@ -36,6 +36,9 @@ OUTPUT: the input columns, then
   status        `valid`, or flags joined by `|`: not_cutting, rr_clamped, ra_clamped,
                 tc_out_of_range, non_finite, ambiguous (trust a row only when valid)
   method        what produced rr: polynomial, table3, inversion, none
+  dr_sigma_mm, da_sigma_mm
+                1-sigma of the depths from the tool file's estimator.gain_uncertainty
+                (the calibration's gain error; 0 by default)
 
 DEFAULTS (each can be changed in the --tool file): tool radius 8 mm, 4 flutes, helix 30 deg,
 down milling, the paper's Table 2 cutting coefficients, force floor 2 N, solver auto.

@@ -136,7 +136,7 @@ fn keeps_input_columns_in_order_and_appends_the_estimate() {
         h,
         [
             "case", "fx_n", "ft_n", "tc_mm", "rr_true", "ra_true", "rr", "ra", "dr_mm", "da_mm",
-            "status", "method"
+            "status", "method", "dr_sigma_mm", "da_sigma_mm"
         ]
     );
     let ids: Vec<&str> = rows.iter().map(|r| r[0].as_str()).collect();
@@ -181,7 +181,7 @@ fn header_only_gives_header_only() {
     let out = run_lib("fx_n,tc_mm,ft_n\n", Solver::Auto, Route::Auto).expect("estimate");
     assert_eq!(
         String::from_utf8(out).expect("utf-8"),
-        "fx_n,tc_mm,ft_n,rr,ra,dr_mm,da_mm,status,method\n"
+        "fx_n,tc_mm,ft_n,rr,ra,dr_mm,da_mm,status,method,dr_sigma_mm,da_sigma_mm\n"
     );
 }
 
