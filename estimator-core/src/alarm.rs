@@ -448,7 +448,7 @@ impl Alarms {
     /// Per-tooth force watched by the breakage detector.
     fn signal(&self, fx: f32, f2: f32) -> f32 {
         match self.cfg.breakage.signal {
-            BreakageSignal::Resultant => libm::hypotf(fx, f2),
+            BreakageSignal::Resultant => crate::fmath::hypot(fx, f2),
             BreakageSignal::Feed => fx,
         }
     }
@@ -699,7 +699,7 @@ impl EnvelopeRecorder {
         if rec.status.contains(Status::NOT_CUTTING) && self.teeth == 0 {
             return;
         }
-        let f = libm::hypotf(rec.fx_n, rec.f2_n);
+        let f = crate::fmath::hypot(rec.fx_n, rec.f2_n);
         if let Some(w) = self.window.get_mut(self.teeth as usize % self.flutes) {
             *w = if f.is_finite() { f } else { 0.0 };
         }

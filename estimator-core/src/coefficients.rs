@@ -21,6 +21,12 @@ impl PowerLaw {
     pub fn at(&self, t_a_mm: f32) -> f32 {
         self.k * libm::powf(t_a_mm, self.p)
     }
+
+    /// Evaluates the law at `t_a = exp(ln_t_a)`: cheaper when several laws share `t_a`.
+    #[inline]
+    pub fn at_ln(&self, ln_t_a: f32) -> f32 {
+        self.k * libm::expf(self.p * ln_t_a)
+    }
 }
 
 /// The three power laws of eq. 9 and the feed range they were identified over.

@@ -301,7 +301,7 @@ impl FeedDrive {
         let [vx, vy] = velocity_mm_min;
         if self.two_axis {
             // moving() guarantees a non-zero component, so the norm is > 0.
-            let s = libm::hypotf(vx, vy);
+            let s = crate::fmath::hypot(vx, vy);
             Some([vx / s, vy / s])
         } else {
             Some([if vx > 0.0 { 1.0 } else { -1.0 }, 0.0])

@@ -217,7 +217,7 @@ impl Estimator {
         }
         let (ratio, magnitude) = match m {
             Measured::Motor { ft_n, .. } => (Ratio::Fxt, ft_n),
-            Measured::Dynamometer { fx_n, fy_n } => (Ratio::Fx, libm::hypotf(fx_n, fy_n)),
+            Measured::Dynamometer { fx_n, fy_n } => (Ratio::Fx, crate::fmath::hypot(fx_n, fy_n)),
         };
         // Written so that a NaN magnitude (cannot happen here, inputs are finite) also
         // counts as not cutting.
@@ -339,9 +339,9 @@ impl Estimator {
             Measured::Dynamometer { fx_n, fy_n } => (fx_n, fy_n),
         };
         // Each channel's total 1-sigma: scatter and gain error in quadrature.
-        let e0 = libm::hypotf(s0, g * v0);
-        let e1 = libm::hypotf(s1, g * v1);
-        let sigma_f = libm::hypotf(df_d0 * e0, df_d1 * e1);
+        let e0 = crate::fmath::hypot(s0, g * v0);
+        let e1 = crate::fmath::hypot(s1, g * v1);
+        let sigma_f = crate::fmath::hypot(df_d0 * e0, df_d1 * e1);
         // dR/df; a flat ratio (turning point, or NaN at a degenerate point) identifies
         // nothing, an infinite slope (slot) pins R_r.
         let (rr_sigma, dr_df) = if df_drr.is_infinite() {
@@ -360,7 +360,7 @@ impl Estimator {
         };
         let d0 = dm_d0 / magnitude - k * df_d0;
         let d1 = dm_d1 / magnitude - k * df_d1;
-        let ra_sigma = ra * libm::hypotf(d0 * e0, d1 * e1);
+        let ra_sigma = ra * crate::fmath::hypot(d0 * e0, d1 * e1);
         let finite_or = |v: f32, alt: f32| if v.is_finite() { v } else { alt };
         (finite_or(rr_sigma, RR_MAX), finite_or(ra_sigma, RA_MAX))
     }

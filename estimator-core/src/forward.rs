@@ -48,6 +48,8 @@ pub struct Operating {
     pub arc: ArcIntegrals,
     /// Average chip thickness [mm].
     pub t_a_mm: f32,
+    /// `ln t_a`, kept so that `K_s` and `r2` cost one `expf` each.
+    pub ln_t_a: f32,
     /// `r1` at `t_a`.
     pub r1: f32,
 }
@@ -61,10 +63,14 @@ impl Operating {
     /// Same, from arc integrals already evaluated.
     pub fn from_integrals(coeffs: &CuttingCoefficients, arc: ArcIntegrals, tc_mm: f32) -> Self {
         let t_a_mm = average_chip_thickness_mm(tc_mm, arc.c, arc.arc);
+        // One log for all three power laws: k t^p = k exp(p ln t) (powf would be ~220
+        // instructions each on the Cortex-M4F).
+        let ln_t_a = libm::logf(t_a_mm);
         Operating {
             arc,
             t_a_mm,
-            r1: coeffs.r1.at(t_a_mm),
+            ln_t_a,
+            r1: coeffs.r1.at_ln(ln_t_a),
         }
     }
 
@@ -91,7 +97,7 @@ impl Operating {
     /// `K' = K_s R t_c / phi_N` [N]: the force scale of eq. 7 per unit `R_a`.
     #[inline]
     pub fn force_scale_n(&self, coeffs: &CuttingCoefficients, tool: &Tool, tc_mm: f32) -> f32 {
-        coeffs.ks.at(self.t_a_mm) * tool.radius_mm * tc_mm / tool.tooth_pitch_rad()
+        coeffs.ks.at_ln(self.ln_t_a) * tool.radius_mm * tc_mm / tool.tooth_pitch_rad()
     }
 
     /// Eq. 7 at axial immersion `ra`.
@@ -108,7 +114,7 @@ impl Operating {
             ft_n: s * c,
             fx_n: s * (a + r1 * b),
             fy_n: s * (-b + r1 * a),
-            fz_n: s * coeffs.r2.at(self.t_a_mm) * c,
+            fz_n: s * coeffs.r2.at_ln(self.ln_t_a) * c,
         }
     }
 
@@ -120,7 +126,7 @@ impl Operating {
     /// At the slot `sin u = 0` and the slopes of `f` are infinite; returned as is.
     pub fn slopes(&self, coeffs: &CuttingCoefficients, mode: MillingMode) -> Slopes {
         let (a, b, c, r1, u) = (self.arc.a, self.arc.b, self.arc.c, self.r1, self.arc.arc);
-        let sin_u = libm::sinf(u);
+        let sin_u = crate::geometry::arc_sin(c);
         let dln_ta = 1.0 / c - 1.0 / (u * sin_u);
         let dr1 = coeffs.r1.p * r1 * dln_ta;
         let da = match mode {

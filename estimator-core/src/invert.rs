@@ -1,9 +1,11 @@
 //! Exact inversion of the force ratios for `R_r`: the reference for the polynomial and its
 //! fallback outside the fitted range.
 //!
-//! The unknown is the engaged arc `u = acos(1 - R_r)` in `(0, pi]` rather than `R_r`:
-//! near the slot `dR_r/du -> 0` where `d f / d R_r -> infinity`, so a root finder in `u`
-//! sees a well-behaved function. On the branch that contains the slot each ratio is
+//! The unknown is `x = -sqrt(2 - R_r)` in `[-sqrt(2 - R_MIN), 0]` rather than `R_r`: near
+//! the slot the ratios go as `f_slot - c sqrt(2 - R_r)` (`d f / d R_r -> infinity`), which is
+//! linear in `x`, so a root finder in `x` sees a well-behaved function; `x` rises with
+//! `R_r`, the slot is `x = 0`, and the engaged arc is `acos(x^2 - 1)` (a cheap `acosf`, no
+//! `cosf`: see [`crate::fmath`]). On the branch that contains the slot each ratio is
 //! monotonic in `u`; `f_xt` in down milling is monotonic on the whole range (method.md,
 //! tested), the others turn over at light cuts (`r1` grows without bound as `t_a -> 0`),
 //! so their branch ends at the extremum, found by golden-section search. Roots: Illinois
@@ -13,7 +15,6 @@ use crate::coefficients::CuttingCoefficients;
 use crate::forward::Operating;
 use crate::geometry::{ArcIntegrals, MillingMode, RR_MIN};
 use crate::status::Status;
-use core::f32::consts::PI;
 
 /// Which measured ratio is being inverted.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -24,16 +25,23 @@ pub enum Ratio {
     Fx,
 }
 
-/// The ratio as a function of the engaged arc `u`.
-pub fn ratio_at_arc(
+/// `R_r` at the solver's variable `x = -sqrt(2 - R_r)`.
+#[inline]
+fn rr_at(x: f32) -> f32 {
+    2.0 - x * x
+}
+
+/// The ratio as a function of the solver's variable `x = -sqrt(2 - R_r)`.
+pub fn ratio_at(
     coeffs: &CuttingCoefficients,
     mode: MillingMode,
     ratio: Ratio,
-    u: f32,
+    x: f32,
     tc_mm: f32,
 ) -> f32 {
-    let rr = 1.0 - libm::cosf(u);
-    let op = Operating::from_integrals(coeffs, ArcIntegrals::from_arc(mode, rr, u), tc_mm);
+    let rr = rr_at(x);
+    let arc = libm::acosf(1.0 - rr);
+    let op = Operating::from_integrals(coeffs, ArcIntegrals::from_arc(mode, rr, arc), tc_mm);
     match ratio {
         Ratio::Fxt => op.ratio_fxt(),
         Ratio::Fx => op.ratio_fx(),
@@ -48,9 +56,9 @@ fn rises(mode: MillingMode, ratio: Ratio) -> bool {
     )
 }
 
-/// Smallest arc searched: `R_r = RR_MIN`.
-fn arc_min() -> f32 {
-    libm::acosf(1.0 - RR_MIN)
+/// Lower end of the search: `R_r = RR_MIN`.
+fn x_min() -> f32 {
+    -libm::sqrtf(2.0 - RR_MIN)
 }
 
 /// Result of an inversion.
@@ -72,39 +80,39 @@ pub fn invert(
     target: f32,
     tc_mm: f32,
 ) -> Inverted {
-    // Work with g(u) = s * (ratio(u) - target), increasing in u on the branch.
+    // Work with g(x) = s * ratio(x), increasing in x on the branch that ends at the slot.
     let s = if rises(mode, ratio) { 1.0 } else { -1.0 };
-    let g = |u: f32| s * ratio_at_arc(coeffs, mode, ratio, u, tc_mm);
-    let u_min = arc_min();
-    let u_lo = if ratio == Ratio::Fxt && mode == MillingMode::Down {
-        u_min
+    let g = |x: f32| s * ratio_at(coeffs, mode, ratio, x, tc_mm);
+    let (x_min, x_slot) = (x_min(), 0.0);
+    let x_lo = if ratio == Ratio::Fxt && mode == MillingMode::Down {
+        x_min
     } else {
-        argmin(&g, u_min, PI)
+        argmin(&g, x_min, x_slot)
     };
     let t = s * target;
-    let (g_lo, g_hi) = (g(u_lo), g(PI));
+    let (g_lo, g_hi) = (g(x_lo), g(x_slot));
     let mut status = Status::VALID;
-    let u = if t <= g_lo {
+    let x = if t <= g_lo {
         status |= Status::RR_CLAMPED;
-        u_lo
+        x_lo
     } else if t >= g_hi {
         status |= Status::RR_CLAMPED;
-        PI
+        x_slot
     } else {
-        // Any part of the other branch (u < u_lo) reaching the same value makes the
-        // answer ambiguous; g on that branch lies between g(u_min) and g(u_lo).
+        // Any part of the other branch (x < x_lo) reaching the same value makes the
+        // answer ambiguous; g on that branch lies between g(x_min) and g(x_lo).
         status.set_if(
-            u_lo > u_min && t >= g_lo && t <= g(u_min),
+            x_lo > x_min && t >= g_lo && t <= g(x_min),
             Status::AMBIGUOUS,
         );
-        illinois(&g, t, u_lo, PI, g_lo, g_hi)
+        illinois(&g, t, x_lo, x_slot, g_lo, g_hi)
     };
-    if u_lo > u_min && status.contains(Status::RR_CLAMPED) && u == u_lo {
+    if x_lo > x_min && status.contains(Status::RR_CLAMPED) && x == x_lo {
         // Below the turning point the ratio is insensitive to R_r.
         status |= Status::AMBIGUOUS;
     }
     Inverted {
-        rr: (1.0 - libm::cosf(u)).clamp(RR_MIN, 2.0),
+        rr: rr_at(x).clamp(RR_MIN, 2.0),
         status,
     }
 }
@@ -161,7 +169,8 @@ fn illinois(
         if !(x > lo && x < hi) {
             x = 0.5 * (lo + hi);
         }
-        if hi - lo <= 4.0 * f32::EPSILON * hi {
+        // x ends at 0 (the slot): an absolute tolerance, at f32 resolution of x ~ 1.
+        if hi - lo <= 4.0 * f32::EPSILON {
             break;
         }
         let e = g(x) - t;

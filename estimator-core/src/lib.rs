@@ -18,6 +18,7 @@ pub mod coefficients;
 pub mod conformance;
 pub mod drive;
 pub mod estimator;
+pub mod fmath;
 pub mod forward;
 pub mod fxt_poly;
 pub mod geometry;

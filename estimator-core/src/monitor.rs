@@ -394,7 +394,7 @@ impl Monitor {
             0.0
         };
         let [m0, m1, v0, v1, sp] = p.mean;
-        let speed = libm::hypotf(v0, v1);
+        let speed = crate::fmath::hypot(v0, v1);
         let tc_mm = speed / (n as f32 * rpm);
         let (fx_n, f2_n, moving) = match &self.cfg.input {
             Input::Motor { feed, spindle } => (
@@ -429,7 +429,7 @@ impl Monitor {
         // with an entry.
         let magnitude = match self.cfg.input {
             Input::Motor { .. } => f2_n,
-            Input::Dynamometer => libm::hypotf(fx_n, f2_n),
+            Input::Dynamometer => crate::fmath::hypot(fx_n, f2_n),
         };
         let cutting = moving && magnitude > self.cfg.estimator.force_floor_n;
         if !cutting {
@@ -457,7 +457,7 @@ impl Monitor {
             let before = st.mean(n, n);
             let mag = |e: &Entry| match self.cfg.input {
                 Input::Motor { .. } => e.f2_n,
-                Input::Dynamometer => libm::hypotf(e.fx_n, e.f2_n),
+                Input::Dynamometer => crate::fmath::hypot(e.fx_n, e.f2_n),
             };
             let (a, b) = (mag(&now), mag(&before));
             // Noise floor: the same flute one revolution apart, less the common change of

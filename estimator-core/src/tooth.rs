@@ -74,6 +74,7 @@ pub struct Period {
 /// Running state.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct ToothState {
+    /// Index of the current sample (0-based).
     sample: u64,
     sum: [f32; CHANNELS],
     good: u32,
@@ -97,14 +98,15 @@ impl Timing {
     ///
     /// `x`: the raw channels; `sync`: an encoder pulse at this sample.
     pub fn push(&self, st: &mut ToothState, x: &[f32; CHANNELS], sync: bool) -> Option<Period> {
-        st.sample = st.sample.wrapping_add(1);
         let out = match self.mode {
             SyncMode::PerTooth => self.boundary_per_tooth(st, sync),
             SyncMode::PerRevolution => self.boundary_per_rev(st, sync),
         };
         // The sample that carries the pulse belongs to the new period.
         self.accumulate(st, x);
-        out.or_else(|| self.timeout(st))
+        let out = out.or_else(|| self.timeout(st));
+        st.sample = st.sample.wrapping_add(1);
+        out
     }
 
     fn accumulate(&self, st: &mut ToothState, x: &[f32; CHANNELS]) {
@@ -141,7 +143,7 @@ impl Timing {
             return None;
         }
         let advance = self.teeth_swallowed(st.len, st.last_len);
-        let p = self.close(st, advance);
+        let p = self.close(st, st.sample.wrapping_sub(1), advance);
         Some(p)
     }
 
@@ -160,7 +162,7 @@ impl Timing {
             // The pulse ends the last tooth of the revolution, whatever the count says.
             let measured = st.since_rev;
             let was_last = st.tooth as u32 + 1 == n;
-            let mut p = self.close(st, 0);
+            let mut p = self.close(st, st.sample.wrapping_sub(1), 0);
             if !was_last || st.rev_len == 0 {
                 p.status |= Status::PERIOD_INVALID;
             }
@@ -174,7 +176,7 @@ impl Timing {
             // Boundary k of the revolution, rounded to the nearest sample.
             let boundary = ((k as u64 * st.rev_len as u64 + n as u64 / 2) / n as u64) as u32;
             if st.since_rev >= boundary {
-                return Some(self.close(st, 1));
+                return Some(self.close(st, st.sample.wrapping_sub(1), 1));
             }
         }
         None
@@ -204,9 +206,9 @@ impl Timing {
         st.tooth = tooth;
     }
 
-    /// Closes the open period (which ended on the previous sample) and opens the next one,
+    /// Closes the open period, whose last sample is `end`, and opens the next one,
     /// `advance` teeth later.
-    fn close(&self, st: &mut ToothState, advance: u8) -> Period {
+    fn close(&self, st: &mut ToothState, end: u64, advance: u8) -> Period {
         let mut status = Status::VALID;
         let len = st.len;
         status.set_if(
@@ -224,7 +226,7 @@ impl Timing {
             0.0
         };
         let p = Period {
-            end_sample: st.sample.wrapping_sub(1),
+            end_sample: end,
             samples: len,
             tooth: st.tooth,
             mean: st.sum.map(|s| s * inv),
@@ -248,7 +250,8 @@ impl Timing {
         if !st.open || limit <= self.max_period {
             return None;
         }
-        let mut p = self.close(st, 1);
+        // The current sample is already in the period: it is the last one.
+        let mut p = self.close(st, st.sample, 1);
         p.status |= Status::NO_SYNC | Status::PERIOD_INVALID;
         // Wait for a fresh pulse; lengths before the gap say nothing about those after it.
         st.open = false;
@@ -301,6 +304,8 @@ mod tests {
         assert_eq!(ps.len(), 9);
         for (k, p) in ps.iter().enumerate() {
             assert_eq!(p.samples, 100);
+            // The pulse at 100 (k + 1) opens the next period: this one ends just before.
+            assert_eq!(p.end_sample, (k as u64 + 1) * 100 - 1);
             assert!(p.status.is_valid(), "{}", p.status);
             let mid = (k as f32 * 100.0 + 49.5) / 100.0;
             assert!((p.mean[0] - mid).abs() < 1e-5, "{} vs {mid}", p.mean[0]);
