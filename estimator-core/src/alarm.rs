@@ -608,7 +608,8 @@ impl Alarms {
 
         // --- wear (EWRLS, one parameter) --------------------------------------------
         let mut wear_event = None;
-        if self.cfg.drift.enabled && rec.status.is_valid() {
+        // Wear is slow: one update per revolution is plenty and keeps eq. 7 off most teeth.
+        if self.cfg.drift.enabled && rec.status.is_valid() && rec.tooth == 0 {
             let (rr, ra) = match self.cfg.drift.reference {
                 DriftReference::Estimated => (rec.rr, rec.ra),
                 DriftReference::Known { rr, ra } => (rr, ra),

@@ -24,6 +24,7 @@ pub mod fxt_poly;
 pub mod geometry;
 pub mod invert;
 pub mod monitor;
+pub mod pipeline;
 pub mod poly;
 pub mod status;
 pub mod table;
@@ -35,6 +36,7 @@ pub use estimator::{Estimate, Estimator, EstimatorConfig, Measured, Method, Solv
 pub use forward::{average_forces, average_forces_linear, AverageForces, Engagement};
 pub use geometry::{MillingMode, Tool};
 pub use monitor::{Monitor, MonitorConfig, MonitorState, Sample, ToothRecord};
+pub use pipeline::{MachineConfig, Pipeline, PipelineState};
 pub use status::Status;
 
 /// A configuration parameter that cannot be used, named.

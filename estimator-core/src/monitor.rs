@@ -29,6 +29,7 @@ use crate::ConfigError;
 /// Most teeth the filter window may hold (`filter_revs * flutes`, and at least two
 /// revolutions): 64 teeth of three floats, under 1 KiB of state.
 pub const MAX_WINDOW: usize = 64;
+const _: () = assert!(MAX_WINDOW.is_power_of_two());
 
 /// Cosine of the largest turn of the feed direction between two teeth that is not a
 /// feed change (about 3 degrees: an arc of 20 mm radius at 250 mm/min turns 0.3 degrees
@@ -282,6 +283,18 @@ impl ToothRecord {
 /// Length of [`ToothRecord::to_words`].
 pub const RECORD_WORDS: usize = 19;
 
+/// What one pass over the window gives (see [`Monitor::blocks`]).
+#[derive(Clone, Copy, Debug, Default)]
+struct Blocks {
+    /// Whole revolutions available (at most `max(filter_revs, 2)`).
+    count: usize,
+    newest: Entry,
+    before: Entry,
+    filter: Entry,
+    /// Standard error of the filter's `F_ax`, second force.
+    sigma: [f32; 2],
+}
+
 /// One valid tooth in the filter window.
 #[derive(Clone, Copy, Debug, Default)]
 struct Entry {
@@ -305,6 +318,8 @@ pub struct MonitorState {
     dir: [f32; 2],
     /// Running variance of same-flute force differences less their common part [N^2].
     noise_var: f32,
+    /// Mean feed per tooth of the newest revolution after the last tooth.
+    last_rev_tc_mm: f32,
     /// Last filtered output (kept through invalid periods, for display).
     fx_filt_n: f32,
     f2_filt_n: f32,
@@ -321,6 +336,7 @@ impl Default for MonitorState {
             settle: 0,
             dir: [0.0; 2],
             noise_var: 0.0,
+            last_rev_tc_mm: 0.0,
             fx_filt_n: 0.0,
             f2_filt_n: 0.0,
             tc_filt_mm: 0.0,
@@ -331,7 +347,8 @@ impl Default for MonitorState {
 impl MonitorState {
     /// The `k`-th most recent entry (0 = newest); `k < len`.
     fn back(&self, k: usize) -> Entry {
-        let i = (self.head + MAX_WINDOW - 1 - k % MAX_WINDOW) % MAX_WINDOW;
+        // MAX_WINDOW is a power of two: the wrap is a mask.
+        let i = self.head.wrapping_sub(1).wrapping_sub(k) & (MAX_WINDOW - 1);
         self.ring.get(i).copied().unwrap_or_default()
     }
 
@@ -442,7 +459,7 @@ impl Monitor {
         // feed direction against the last tooth's (reversal, corner, tight arc).
         let dir = [v0 / speed, v1 / speed];
         if st.len >= n {
-            let last_rev = st.mean(0, n).tc_mm;
+            let last_rev = st.last_rev_tc_mm;
             let turned = dir[0] * st.dir[0] + dir[1] * st.dir[1] < MAX_TURN_COS;
             if turned || (tc_mm - last_rev).abs() > self.cfg.feed_change_rel * last_rev {
                 rec.status |= Status::FEED_CHANGE;
@@ -451,20 +468,21 @@ impl Monitor {
         }
         st.dir = dir;
         push(st, Entry { fx_n, f2_n, tc_mm });
+        let b = self.blocks(st, n);
+        st.last_rev_tc_mm = b.newest.tc_mm;
         // Transient: the newest revolution against the one before (both runout-free).
-        if st.len > 2 * n {
-            let now = st.mean(0, n);
-            let before = st.mean(n, n);
+        if b.count >= 2 {
+            let (now, before) = (b.newest, b.before);
             let mag = |e: &Entry| match self.cfg.input {
                 Input::Motor { .. } => e.f2_n,
                 Input::Dynamometer => crate::fmath::hypot(e.fx_n, e.f2_n),
             };
-            let (a, b) = (mag(&now), mag(&before));
+            let (a, c) = (mag(&now), mag(&before));
             // Noise floor: the same flute one revolution apart, less the common change of
             // the two revolutions, is noise (and runout drift) alone; its running variance
             // sets how large a change of the revolution mean is more than noise.
             let (new, old) = (st.back(0), st.back(n));
-            let r_mag = (mag(&new) - mag(&old)) - (a - b);
+            let r_mag = (mag(&new) - mag(&old)) - (a - c);
             let r_fx = (new.fx_n - old.fx_n) - (now.fx_n - before.fx_n);
             let r2 = (r_mag * r_mag).max(r_fx * r_fx);
             if r2.is_finite() {
@@ -473,13 +491,20 @@ impl Monitor {
             let noise = NOISE_SIGMAS * libm::sqrtf(st.noise_var / (n as f32 - 1.0).max(1.0));
             // The feed force is held to the same scale: it can change alone (a reversal
             // turns down milling into up milling at the same tangential force).
-            let limit = (self.cfg.transient_rel * a.abs().max(b.abs())).max(noise);
-            if (a - b).abs() > limit || (now.fx_n - before.fx_n).abs() > limit {
+            let limit = (self.cfg.transient_rel * a.abs().max(c.abs())).max(noise);
+            if (a - c).abs() > limit || (now.fx_n - before.fx_n).abs() > limit {
                 rec.status |= Status::TRANSIENT;
                 st.settle = self.settle_teeth();
             }
         }
-        let filt = st.mean(0, self.window.min(st.len));
+        // The window is whole revolutions once the monitor has warmed up; until then, what
+        // there is (the record is flagged then anyway).
+        let revs = self.cfg.filter_revs as usize;
+        let filt = if b.count >= revs {
+            b.filter
+        } else {
+            st.mean(0, self.window.min(st.len))
+        };
         st.fx_filt_n = filt.fx_n;
         st.f2_filt_n = filt.f2_n;
         st.tc_filt_mm = filt.tc_mm;
@@ -488,7 +513,6 @@ impl Monitor {
             st.settle = st.settle.saturating_sub(1);
             return self.finish(st, rec, None);
         }
-        let sigma = self.scatter(st, n);
         let m = match self.cfg.input {
             Input::Motor { .. } => Measured::Motor {
                 fx_n: filt.fx_n,
@@ -499,30 +523,54 @@ impl Monitor {
                 fy_n: filt.f2_n,
             },
         };
-        let e = self.est.estimate_with_scatter(filt.tc_mm, m, sigma);
+        let e = self.est.estimate_with_scatter(filt.tc_mm, m, b.sigma);
         self.finish(st, rec, Some(e))
     }
 
-    /// Standard error of the window mean from the scatter of its per-revolution block
+    /// One pass over the window in whole revolutions (blocks of `n` teeth, newest first):
+    /// the newest two block means (transient test), the mean of the first `filter_revs`
+    /// (the filter), and the standard error of that mean from the scatter of the block
     /// means (at least two blocks, so one-revolution filters still get a figure).
-    fn scatter(&self, st: &MonitorState, n: usize) -> [f32; 2] {
+    fn blocks(&self, st: &MonitorState, n: usize) -> Blocks {
         let revs = self.cfg.filter_revs as usize;
-        let blocks = revs.max(2);
-        let mut sum = [0.0f32; 2];
-        let mut sum2 = [0.0f32; 2];
-        for b in 0..blocks {
+        let count = revs.max(2).min(st.len / n.max(1));
+        let mut out = Blocks {
+            count,
+            ..Blocks::default()
+        };
+        let (mut sum, mut sum2) = ([0.0f32; 2], [0.0f32; 2]);
+        for b in 0..count {
             let m = st.mean(b * n, n);
+            match b {
+                0 => out.newest = m,
+                1 => out.before = m,
+                _ => {}
+            }
+            if b < revs {
+                out.filter.fx_n += m.fx_n;
+                out.filter.f2_n += m.f2_n;
+                out.filter.tc_mm += m.tc_mm;
+            }
             for (k, v) in [m.fx_n, m.f2_n].into_iter().enumerate() {
                 sum[k] += v;
                 sum2[k] += v * v;
             }
         }
-        let nb = blocks as f32;
-        [0, 1].map(|k| {
-            let mean = sum[k] / nb;
-            let var = ((sum2[k] - nb * mean * mean) / (nb - 1.0)).max(0.0);
-            libm::sqrtf(var / revs as f32)
-        })
+        let inv = 1.0 / revs as f32;
+        out.filter = Entry {
+            fx_n: out.filter.fx_n * inv,
+            f2_n: out.filter.f2_n * inv,
+            tc_mm: out.filter.tc_mm * inv,
+        };
+        if count >= 2 {
+            let nb = count as f32;
+            out.sigma = [0, 1].map(|k| {
+                let mean = sum[k] / nb;
+                let var = ((sum2[k] - nb * mean * mean) / (nb - 1.0)).max(0.0);
+                libm::sqrtf(var * inv)
+            });
+        }
+        out
     }
 
     /// Teeth a disturbance keeps the immersion flagged: the window, and at least the two
@@ -556,7 +604,7 @@ fn push(st: &mut MonitorState, e: Entry) {
     if let Some(slot) = st.ring.get_mut(st.head) {
         *slot = e;
     }
-    st.head = (st.head + 1) % MAX_WINDOW;
+    st.head = (st.head + 1) & (MAX_WINDOW - 1);
     st.len = (st.len + 1).min(MAX_WINDOW);
 }
 
