@@ -35,6 +35,7 @@
 use crate::estimator::EstimatorConfig;
 use crate::forward::{AverageForces, Operating};
 use crate::monitor::ToothRecord;
+use crate::probe::{NoProbe, Probe, Stage};
 use crate::status::Status;
 use crate::ConfigError;
 
@@ -464,6 +465,28 @@ impl Alarms {
 
     /// Feeds one record.
     pub fn process(&self, st: &mut AlarmState, rec: &ToothRecord) -> AlarmOutput {
+        self.process_with(st, rec, &mut NoProbe)
+    }
+
+    /// [`Self::process`], telling `probe` where each stage ends (for the instruction-count
+    /// bench; see [`crate::probe`]).
+    #[cfg(feature = "probe")]
+    pub fn process_probed<P: Probe>(
+        &self,
+        st: &mut AlarmState,
+        rec: &ToothRecord,
+        probe: &mut P,
+    ) -> AlarmOutput {
+        self.process_with(st, rec, probe)
+    }
+
+    #[inline(always)]
+    pub(crate) fn process_with<P: Probe>(
+        &self,
+        st: &mut AlarmState,
+        rec: &ToothRecord,
+        probe: &mut P,
+    ) -> AlarmOutput {
         let n = self.n;
         let armed = !rec.status.intersects(BAD_DATA);
         let f = self.signal(rec.fx_n, rec.f2_n);
@@ -488,6 +511,7 @@ impl Alarms {
         st.head = (st.head + 1) % HISTORY;
         st.exceed_pos <<= 1;
         st.exceed_neg <<= 1;
+        probe.mark(Stage::AlarmHistory);
 
         let mut raised: Option<AlarmEvent> = None;
         let mut raise = |cause, value, threshold| {
@@ -505,6 +529,7 @@ impl Alarms {
         let rev_mean = (0..n)
             .all(|k| st.back(k).armed)
             .then(|| (0..n).map(|k| st.back(k).f_n).sum::<f32>() / n as f32);
+        probe.mark(Stage::AlarmRevMean);
 
         // --- breakage ---------------------------------------------------------------
         // A flute that breaks (or chips) hands its chip to the next flute: the per-tooth
@@ -541,6 +566,8 @@ impl Alarms {
             }
         }
 
+        probe.mark(Stage::AlarmBreakage);
+
         // --- tool gone ----------------------------------------------------------------
         let steady = armed && !rec.status.contains(Status::TRANSIENT) && st.held.is_some();
         // The recent peak decays over about 50 teeth: an exit from the part lowers the force
@@ -558,6 +585,8 @@ impl Alarms {
             raise(Cause::ToolGone, f, self.est.force_floor_n);
             st.held = None;
         }
+
+        probe.mark(Stage::AlarmToolGone);
 
         // --- overload -----------------------------------------------------------------
         if let (true, Some(mean)) = (self.cfg.overload.enabled, rev_mean) {
@@ -579,6 +608,8 @@ impl Alarms {
                 st.overload_run = 0;
             }
         }
+
+        probe.mark(Stage::AlarmOverload);
 
         // --- teach-in -----------------------------------------------------------------
         if rec.status.contains(Status::NOT_CUTTING) {
@@ -605,6 +636,8 @@ impl Alarms {
                 }
             }
         }
+
+        probe.mark(Stage::AlarmTeach);
 
         // --- wear (EWRLS, one parameter) --------------------------------------------
         let mut wear_event = None;
@@ -636,17 +669,21 @@ impl Alarms {
             st.wear_warned = warn;
         }
 
+        probe.mark(Stage::AlarmWear);
+
         let mut event = None;
         if let (None, Some(e)) = (st.latched, raised) {
             st.latched = Some(e);
             event = Some(e);
         }
-        AlarmOutput {
+        let out = AlarmOutput {
             event: event.or(wear_event),
             latched: st.latched.is_some(),
             wear: st.theta,
             wear_warning: st.wear_warned,
-        }
+        };
+        probe.mark(Stage::AlarmOutput);
+        out
     }
 
     /// `E_i = D_i - D_{i-N}` for the newest tooth, when all four teeth it needs are armed

@@ -26,6 +26,7 @@ pub mod invert;
 pub mod monitor;
 pub mod pipeline;
 pub mod poly;
+pub mod probe;
 pub mod status;
 pub mod table;
 pub mod table3;

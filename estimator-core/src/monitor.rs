@@ -22,6 +22,7 @@
 
 use crate::drive::{FeedDrive, SpindleModel};
 use crate::estimator::{Estimate, Estimator, EstimatorConfig, Measured, Method};
+use crate::probe::{NoProbe, Probe, Stage};
 use crate::status::Status;
 use crate::tooth::{Period, SyncMode, Timing, ToothState, CHANNELS};
 use crate::ConfigError;
@@ -41,6 +42,8 @@ const NOISE_ALPHA: f32 = 1.0 / 64.0;
 /// A change of the revolution mean counts as a transient beyond this many standard
 /// deviations of its noise.
 const NOISE_SIGMAS: f32 = 4.0;
+/// Largest change of the revolution mean, relative to the force, that noise may excuse.
+const NOISE_CAP_REL: f32 = 0.15;
 
 /// What the analog inputs carry.
 // No heap to box the large variant into, and there is one of these per monitor.
@@ -392,17 +395,42 @@ impl Monitor {
 
     /// Feeds one sample; returns a record when a tooth period closes.
     pub fn process(&self, st: &mut MonitorState, s: &Sample) -> Option<ToothRecord> {
+        self.process_with(st, s, &mut NoProbe)
+    }
+
+    /// [`Self::process`], telling `probe` where each stage of a tooth update ends (for the
+    /// instruction-count bench; see [`crate::probe`]).
+    #[cfg(feature = "probe")]
+    pub fn process_probed<P: Probe>(
+        &self,
+        st: &mut MonitorState,
+        s: &Sample,
+        probe: &mut P,
+    ) -> Option<ToothRecord> {
+        self.process_with(st, s, probe)
+    }
+
+    #[inline(always)]
+    pub(crate) fn process_with<P: Probe>(
+        &self,
+        st: &mut MonitorState,
+        s: &Sample,
+        probe: &mut P,
+    ) -> Option<ToothRecord> {
         let v = match self.cfg.feed_velocity {
             FeedVelocity::Measured => s.feed_velocity_mm_min,
             FeedVelocity::Nominal(v) => v,
         };
         let x: [f32; CHANNELS] = [s.feed[0], s.feed[1], v[0], v[1], s.spindle];
         let p = self.timing.push(&mut st.tooth, &x, s.sync)?;
-        Some(self.tooth(st, &p))
+        probe.mark(Stage::Period);
+        let rec = self.tooth(st, &p, probe);
+        probe.mark(Stage::Record);
+        Some(rec)
     }
 
     /// Everything that happens once per tooth period.
-    fn tooth(&self, st: &mut MonitorState, p: &Period) -> ToothRecord {
+    fn tooth<P: Probe>(&self, st: &mut MonitorState, p: &Period, probe: &mut P) -> ToothRecord {
         let n = self.cfg.estimator.tool.flutes as usize;
         let fs = self.cfg.sample_rate_hz;
         let rpm = if p.samples > 0 {
@@ -432,6 +460,7 @@ impl Monitor {
             status: p.status,
             ..ToothRecord::default()
         };
+        probe.mark(Stage::Forces);
         let usable = p.status.is_valid()
             && rpm.is_finite()
             && tc_mm.is_finite()
@@ -468,8 +497,10 @@ impl Monitor {
         }
         st.dir = dir;
         push(st, Entry { fx_n, f2_n, tc_mm });
+        probe.mark(Stage::Checks);
         let b = self.blocks(st, n);
         st.last_rev_tc_mm = b.newest.tc_mm;
+        probe.mark(Stage::Blocks);
         // Transient: the newest revolution against the one before (both runout-free).
         if b.count >= 2 {
             let (now, before) = (b.newest, b.before);
@@ -484,19 +515,26 @@ impl Monitor {
             let (new, old) = (st.back(0), st.back(n));
             let r_mag = (mag(&new) - mag(&old)) - (a - c);
             let r_fx = (new.fx_n - old.fx_n) - (now.fx_n - before.fx_n);
-            let r2 = (r_mag * r_mag).max(r_fx * r_fx);
+            // The noise term may widen the limit up to NOISE_CAP_REL of the force and no
+            // further, and one tooth's residual enters the variance at most at that size:
+            // a breakage (a large same-flute change) or a heavy cut before a light one must
+            // not leave the detector blind to the next exit.
+            let m = a.abs().max(c.abs());
+            let cap = NOISE_CAP_REL * m;
+            let r2 = (r_mag * r_mag).max(r_fx * r_fx).min(cap * cap);
             if r2.is_finite() {
                 st.noise_var += NOISE_ALPHA * (r2 - st.noise_var);
             }
             let noise = NOISE_SIGMAS * libm::sqrtf(st.noise_var / (n as f32 - 1.0).max(1.0));
             // The feed force is held to the same scale: it can change alone (a reversal
             // turns down milling into up milling at the same tangential force).
-            let limit = (self.cfg.transient_rel * a.abs().max(c.abs())).max(noise);
+            let limit = (self.cfg.transient_rel * m).max(noise.min(cap));
             if (a - c).abs() > limit || (now.fx_n - before.fx_n).abs() > limit {
                 rec.status |= Status::TRANSIENT;
                 st.settle = self.settle_teeth();
             }
         }
+        probe.mark(Stage::Transient);
         // The window is whole revolutions once the monitor has warmed up; until then, what
         // there is (the record is flagged then anyway).
         let revs = self.cfg.filter_revs as usize;
@@ -513,6 +551,7 @@ impl Monitor {
             st.settle = st.settle.saturating_sub(1);
             return self.finish(st, rec, None);
         }
+        probe.mark(Stage::Filter);
         let m = match self.cfg.input {
             Input::Motor { .. } => Measured::Motor {
                 fx_n: filt.fx_n,
@@ -524,6 +563,7 @@ impl Monitor {
             },
         };
         let e = self.est.estimate_with_scatter(filt.tc_mm, m, b.sigma);
+        probe.mark(Stage::Estimate);
         self.finish(st, rec, Some(e))
     }
 

@@ -5,6 +5,7 @@
 
 use crate::alarm::{AlarmConfig, AlarmOutput, AlarmState, Alarms};
 use crate::monitor::{Monitor, MonitorConfig, MonitorState, Sample, ToothRecord};
+use crate::probe::{NoProbe, Probe};
 use crate::ConfigError;
 
 /// Everything a board is configured with: the one type host-sim reads from TOML
@@ -60,8 +61,30 @@ impl Pipeline {
         st: &mut PipelineState,
         s: &Sample,
     ) -> Option<(ToothRecord, AlarmOutput)> {
-        let rec = self.monitor.process(&mut st.monitor, s)?;
-        let out = self.alarms.process(&mut st.alarms, &rec);
+        self.process_with(st, s, &mut NoProbe)
+    }
+
+    /// [`Self::process`], telling `probe` where each stage of a tooth update ends (for the
+    /// instruction-count bench; see [`crate::probe`]).
+    #[cfg(feature = "probe")]
+    pub fn process_probed<P: Probe>(
+        &self,
+        st: &mut PipelineState,
+        s: &Sample,
+        probe: &mut P,
+    ) -> Option<(ToothRecord, AlarmOutput)> {
+        self.process_with(st, s, probe)
+    }
+
+    #[inline(always)]
+    fn process_with<P: Probe>(
+        &self,
+        st: &mut PipelineState,
+        s: &Sample,
+        probe: &mut P,
+    ) -> Option<(ToothRecord, AlarmOutput)> {
+        let rec = self.monitor.process_with(&mut st.monitor, s, probe)?;
+        let out = self.alarms.process_with(&mut st.alarms, &rec, probe);
         Some((rec, out))
     }
 

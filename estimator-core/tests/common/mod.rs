@@ -43,7 +43,9 @@ pub fn instantaneous(
     let (mut ft, mut fx, mut fy) = (0.0, 0.0, 0.0);
     for j in 0..n {
         let tc = tc_per_flute.get(j).copied().unwrap_or(tc_nominal).max(0.0);
-        let phi = (theta + j as f64 * 2.0 * PI / n as f64).rem_euclid(2.0 * PI);
+        // Flute j + 1 trails flute j by one pitch: it follows it into the cut and takes
+        // the chip j leaves (runout, breakage).
+        let phi = (theta - j as f64 * 2.0 * PI / n as f64).rem_euclid(2.0 * PI);
         if tan_b == 0.0 {
             if phi >= st && phi <= ex {
                 let dft = ks * tc * phi.sin() * da;

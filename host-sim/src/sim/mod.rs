@@ -1,0 +1,337 @@
+//! `simulate`: analytic time-domain trace simulator (the "trace simulator").
+//!
+//! # Design
+//! A [`Scenario`] names the tool, the material, the machine (the core's
+//! `monitor::Input` drive and spindle models), the signal chain and a timeline of
+//! segments (spindle speed, feed, `d_r`, `d_a`, each constant or ramped; air cuts;
+//! feed direction) and events (a flute breaking or chipping). [`simulate`] walks the
+//! timeline one ADC sample at a time and hands each [`TraceRow`] to a callback; nothing
+//! is kept, so a trace of any length runs in constant memory.
+//!
+//! Per sample:
+//! 1. the schedule gives `rpm`, feed, `d_r`, `d_a`, and the spindle angle `theta` and
+//!    path position are integrated (trapezoid: exact for linear ramps);
+//! 2. [`cutter::Cutter`] integrates the instantaneous elemental forces (eq. 1-3) over
+//!    every flute's helix, with per-flute chip loads from runout and damage;
+//! 3. the feed-frame forces become axis loads (the feed force along the feed velocity,
+//!    the normal force on the feed direction turned +90 deg, plus `m a` while the feed
+//!    ramps) and motor currents through the core's own inverses
+//!    ([`FeedDrive::currents_for_loads_a`], [`SpindleModel::signal_for_force`]), so a
+//!    replay through `FeedDrive::feed_force_n` / `SpindleModel::tangential_force_n`
+//!    inverts exactly what was simulated; a dynamometer gives the forces themselves;
+//! 4. [`chain`]: first-order lag, Gaussian noise, ADC quantisation and clipping (or the
+//!    CNC's integer spindle load at a low rate), encoder pulses with jitter and dropouts;
+//! 5. the row carries the ground truth in its `true_*` fields.
+//!
+//! Tooth averages of a steady cut equal eq. 7 (tests/simulate.rs): each point of the
+//! edge sweeps every angle once per revolution, so the time average is the arc integral
+//! of eq. 7 whatever the helix, as long as the coefficients are held at the nominal `t_a`
+//! (the default; `coefficients_at = "instantaneous"` is the more realistic model).
+//!
+//! [`FeedDrive::currents_for_loads_a`]: estimator_core::drive::FeedDrive::currents_for_loads_a
+//! [`SpindleModel::signal_for_force`]: estimator_core::drive::SpindleModel::signal_for_force
+
+pub mod chain;
+pub mod cutter;
+pub mod scenario;
+
+pub use scenario::{
+    CoefficientsAt, Event, EventKind, Material, OutputSpec, Profile, Scenario, Segment,
+    SignalChain, ToolSpec, Workpiece, MAX_FLUTES,
+};
+
+use crate::trace::{FeedSignal, SpindleSignal, TraceKind, TraceRow, TraceWriter, Truth};
+use anyhow::Result;
+use chain::{Adc, Lag, LoadMeter, Rng, SyncGen};
+use cutter::{Cut, Cutter};
+use estimator_core::drive::SpindleModel;
+use estimator_core::monitor::Input;
+use estimator_core::tooth::SyncMode;
+use std::f64::consts::TAU;
+use std::io::Write;
+
+/// What a run produced, for the command's report and the tests.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SimSummary {
+    /// Rows handed out.
+    pub rows: u64,
+    /// Length of the trace [s].
+    pub duration_s: f64,
+    /// Sync pulses in the trace.
+    pub sync_pulses: u64,
+    /// Sync pulses lost (dropouts).
+    pub sync_dropped: u64,
+    /// Samples at an ADC rail: feed X, feed Y, spindle.
+    pub clipped: [u64; 3],
+    /// Levels to give the monitor as `clip` (feed X, feed Y, spindle): a reading at or
+    /// beyond is a clipped one; infinite for an unclipped channel.
+    pub clip_levels: [f64; 3],
+    /// Largest tangential force [N].
+    pub peak_ft_n: f64,
+    /// Largest feed force magnitude [N].
+    pub peak_fx_n: f64,
+}
+
+/// Per-flute damage state.
+#[derive(Clone, Copy, Debug, Default)]
+struct Damage {
+    broken: bool,
+    chip_mm: f64,
+    chip_fraction: f64,
+}
+
+fn is_load_model(sc: &Scenario) -> bool {
+    matches!(
+        sc.input,
+        Input::Motor {
+            spindle: SpindleModel::Load { .. },
+            ..
+        }
+    )
+}
+
+/// The ADCs of feed X, feed Y and spindle (the load % is digital: no ADC).
+fn adcs(sc: &Scenario) -> [Adc; 3] {
+    let sig = &sc.signal;
+    let feed = Adc::new(sig.adc_bits, sig.feed_full_scale);
+    let spindle = if is_load_model(sc) || matches!(sc.input, Input::Dynamometer) {
+        Adc::new(None, None)
+    } else {
+        Adc::new(sig.adc_bits, sig.spindle_full_scale)
+    };
+    [feed, feed, spindle]
+}
+
+/// Levels to configure as the monitor's `clip` (feed X, feed Y, spindle) for a trace of
+/// this scenario: the ADC rails, infinite for a channel that cannot clip.
+pub fn clip_levels(sc: &Scenario) -> [f64; 3] {
+    adcs(sc).map(|a| a.clip_level())
+}
+
+/// Runs the scenario, handing every row to `out` in time order; stops at the first error
+/// `out` returns. Validates the scenario first (errors name the key).
+pub fn simulate(sc: &Scenario, mut out: impl FnMut(&TraceRow) -> Result<()>) -> Result<SimSummary> {
+    sc.validate()?;
+    let segs = sc.resolve()?;
+    let fs = sc.sample_rate_hz;
+    let dt = 1.0 / fs;
+    let rows = sc.samples();
+    let r_mm = sc.tool.radius_mm;
+    let n = sc.tool.flutes as usize;
+    let mut cutter = Cutter::new(
+        &sc.tool,
+        sc.material.coefficients(),
+        sc.coefficients_at,
+        sc.element_mm,
+    );
+    let spans = sc.workpiece.as_ref().map(|w| w.spans_mm.as_slice());
+    let mut events: Vec<&scenario::Event> = sc.events.iter().collect();
+    events.sort_by(|a, b| a.time_s.total_cmp(&b.time_s));
+    let mut next_event = 0;
+    let mut damage = [Damage::default(); MAX_FLUTES];
+    let mut missing = [0.0f64; MAX_FLUTES];
+
+    let sig = &sc.signal;
+    let mut lag = [
+        Lag::new(sig.feed_lag_s, dt),
+        Lag::new(sig.feed_lag_s, dt),
+        Lag::new(sig.spindle_lag_s, dt),
+    ];
+    let mut rng = [1, 2, 3].map(|s| Rng::new(sc.seed, s));
+    let noise = [sig.feed_noise, sig.feed_noise, sig.spindle_noise];
+    let load_model = is_load_model(sc);
+    let adc = adcs(sc);
+    let mut meter = LoadMeter::new(fs, sig.load_update_hz, sig.load_resolution_pct);
+    let spacing = match sc.sync {
+        SyncMode::PerTooth => TAU / n as f64,
+        SyncMode::PerRevolution => TAU,
+    };
+    let mut sync = SyncGen::new(
+        spacing,
+        sig.sync_phase_deg.to_radians(),
+        sig.sync_jitter_samples,
+        sig.sync_dropout,
+        sc.seed,
+    );
+
+    let mut summary = SimSummary {
+        rows,
+        duration_s: rows as f64 * dt,
+        clip_levels: clip_levels(sc),
+        ..SimSummary::default()
+    };
+    let (mut theta, mut path) = (0.0f64, 0.0f64);
+    let (mut rpm_prev, mut feed_prev) = (f64::NAN, f64::NAN);
+    let mut si = 0;
+    for i in 0..rows {
+        let t = i as f64 * dt;
+        while si + 1 < segs.len() && t >= segs[si].t1 {
+            si += 1;
+        }
+        let g = &segs[si];
+        let len = g.t1 - g.t0;
+        let u = ((t - g.t0) / len).clamp(0.0, 1.0);
+        let lerp = |(a, b): (f64, f64)| a + (b - a) * u;
+        let (rpm, feed, dr, da) = (lerp(g.rpm), lerp(g.feed), lerp(g.dr), lerp(g.da));
+        if i > 0 {
+            theta += 0.5 * (rpm_prev + rpm) * TAU / 60.0 * dt;
+            path += 0.5 * (feed_prev + feed) / 60.0 * dt;
+        }
+        (rpm_prev, feed_prev) = (rpm, feed);
+        let tc = feed / (n as f64 * rpm);
+
+        while next_event < events.len() && events[next_event].time_s <= t {
+            let e = events[next_event];
+            let d = &mut damage[e.flute as usize];
+            match e.kind {
+                EventKind::Break => d.broken = true,
+                EventKind::Chip => {
+                    d.chip_mm = d.chip_mm.max(e.length_mm.unwrap_or(0.0));
+                    d.chip_fraction = d.chip_fraction.max(e.fraction.unwrap_or(0.0));
+                }
+            }
+            next_event += 1;
+        }
+        let mut intact = 0u32;
+        for (j, (m, d)) in missing.iter_mut().zip(&damage).take(n).enumerate() {
+            *m = if d.broken {
+                f64::INFINITY
+            } else {
+                d.chip_mm.max(d.chip_fraction * da)
+            };
+            if !d.broken && d.chip_mm == 0.0 && d.chip_fraction == 0.0 {
+                intact |= 1 << j;
+            }
+        }
+
+        let cut = Cut {
+            theta,
+            mode: g.mode,
+            rr: dr / r_mm,
+            da_mm: da,
+            tc_mm: tc,
+            path_mm: path,
+        };
+        let f = cutter.forces(&cut, &missing[..n], spans);
+        summary.peak_ft_n = summary.peak_ft_n.max(f.ft.abs());
+        summary.peak_fx_n = summary.peak_fx_n.max(f.fx.abs());
+
+        // Machine: feed direction, velocities, inertia.
+        let (uy, ux) = g.angle_rad.sin_cos();
+        let v = [feed * ux, feed * uy];
+        let accel_m_s2 = (g.feed.1 - g.feed.0) / len / 60_000.0;
+        let f_inertia = sig.moving_mass_kg * accel_m_s2;
+        let alpha_rad_s2 = (g.rpm.1 - g.rpm.0) / len * TAU / 60.0;
+        let ft_inertia = sig.spindle_inertia_kg_m2 * alpha_rad_s2 / (r_mm * 1e-3);
+        let (raw, spindle_raw) = match &sc.input {
+            Input::Motor {
+                feed: drive,
+                spindle,
+            } => {
+                // Load the drive supplies on each axis: the feed force along the feed
+                // velocity, the normal force along it turned +90 deg.
+                let fa = f.fx + f_inertia;
+                let loads = [fa * ux - f.fy * uy, fa * uy + f.fy * ux];
+                let i_axes =
+                    drive.currents_for_loads_a(loads.map(|x| x as f32), v.map(|x| x as f32));
+                let second = if drive.two_axis {
+                    i_axes[1] as f64
+                } else {
+                    0.0
+                };
+                let s =
+                    spindle.signal_for_force((f.ft + ft_inertia) as f32, rpm as f32, r_mm as f32);
+                ([i_axes[0] as f64, second], s as f64)
+            }
+            // No spindle column: rows carry 0, as the trace reader fills them.
+            Input::Dynamometer => ([f.fx, f.fy], f64::NAN),
+        };
+        let mut chan = [raw[0], raw[1], spindle_raw];
+        for (k, x) in chan.iter_mut().enumerate() {
+            if x.is_nan() {
+                continue;
+            }
+            let mut y = lag[k].step(*x);
+            if noise[k] > 0.0 {
+                y += noise[k] * rng[k].gauss();
+            }
+            if k == 2 && load_model {
+                y = meter.step(i, y);
+            } else {
+                let (q, clipped) = adc[k].read(y);
+                y = q;
+                summary.clipped[k] += clipped as u64;
+            }
+            *x = y;
+        }
+        let pulse = sync.step(i, theta);
+
+        let truth = if sc.output.truth {
+            let touching =
+                spans.is_none_or(|sp| sp.iter().any(|&[p, q]| path + r_mm > p && path < q));
+            Truth {
+                dr_mm: if touching { dr as f32 } else { 0.0 },
+                da_mm: da as f32,
+                tc_mm: tc as f32,
+                rpm: rpm as f32,
+                flutes_intact: intact,
+                fx_n: f.fx as f32,
+                fy_n: f.fy as f32,
+                ft_n: f.ft as f32,
+            }
+        } else {
+            Truth::default()
+        };
+        let row = TraceRow {
+            time_s: t,
+            sync: pulse,
+            feed: [chan[0] as f32, chan[1] as f32],
+            feed_velocity_mm_min: if sc.output.velocity {
+                v.map(|x| x as f32)
+            } else {
+                [f32::NAN; 2]
+            },
+            spindle: if chan[2].is_nan() {
+                0.0
+            } else {
+                chan[2] as f32
+            },
+            truth,
+        };
+        out(&row)?;
+    }
+    summary.sync_pulses = sync.emitted;
+    summary.sync_dropped = sync.dropped;
+    Ok(summary)
+}
+
+/// The columns a scenario's trace has: currents or forces by its `input`, the second feed
+/// axis if the drive has one, velocity and truth as `[output]` says.
+pub fn trace_kind(sc: &Scenario) -> TraceKind {
+    let (feed, two_axis, spindle) = match &sc.input {
+        Input::Motor {
+            feed,
+            spindle: SpindleModel::Current { .. },
+        } => (FeedSignal::Current, feed.two_axis, SpindleSignal::Current),
+        Input::Motor {
+            feed,
+            spindle: SpindleModel::Load { .. },
+        } => (FeedSignal::Current, feed.two_axis, SpindleSignal::Load),
+        Input::Dynamometer => (FeedSignal::Force, true, SpindleSignal::None),
+    };
+    TraceKind {
+        feed,
+        two_axis,
+        has_velocity: sc.output.velocity,
+        spindle,
+        has_truth: sc.output.truth,
+    }
+}
+
+/// Simulates `sc` into a raw trace CSV (docs/formats.md) on `w`; returns the summary and
+/// the writer, flushed.
+pub fn write_trace<W: Write>(sc: &Scenario, w: W) -> Result<(SimSummary, W)> {
+    let mut tw = TraceWriter::new(w, trace_kind(sc), sc.sample_rate_hz)?;
+    let summary = simulate(sc, |row| tw.write_row(row))?;
+    Ok((summary, tw.finish()?))
+}
