@@ -9,6 +9,11 @@
 # As a cargo runner:
 #   CARGO_TARGET_THUMBV7EM_NONE_EABIHF_RUNNER=tests/target-check/run-qemu.sh \
 #     cargo run -p target-check --target thumbv7em-none-eabihf --release
+# The trace programs take their TMS1 blob at build time (`host-sim trace-bin`, see build.rs):
+#   TRACE_BIN=/abs/path/trace.tms1 cargo build -p target-check --target thumbv7em-none-eabihf \
+#     --release --bin monitor-replay --bin icount-bench
+#   tests/target-check/run-qemu.sh target/thumbv7em-none-eabihf/release/monitor-replay
+#   tests/target-check/run-qemu.sh --icount target/thumbv7em-none-eabihf/release/icount-bench
 # Keep the options in step with `qemu_command` in src/host.rs.
 set -euo pipefail
 

@@ -17,7 +17,7 @@
 
 // Note: the crate is `no_std` (for the target), so std's prelude items are imported by name.
 use std::env;
-use std::ffi::OsString;
+use std::ffi::{OsStr, OsString};
 use std::io::Read;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
@@ -31,7 +31,9 @@ pub const TARGET: &str = "thumbv7em-none-eabihf";
 
 /// The workspace root (two levels above this crate).
 pub fn workspace_root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    // Canonical for readable messages; the joined path works as well if that fails.
+    std::fs::canonicalize(&root).unwrap_or(root)
 }
 
 /// Target directory for the nested cross builds (see the module docs).
@@ -47,24 +49,93 @@ pub fn qemu_target_dir() -> PathBuf {
 /// # Panics
 /// If cargo cannot be started or the build fails (its output goes to the terminal).
 pub fn build_elf(package: &str, bin: &str) -> PathBuf {
+    build_elfs(package, &[bin], &[])
+        .pop()
+        .expect("one path per bin")
+}
+
+/// Builds `bins` of `package` for [`TARGET`] in release, in one cargo run with extra
+/// environment variables (e.g. `TRACE_BIN`, read by this crate's build.rs), and returns
+/// the ELF paths in the order of `bins`.
+///
+/// Note: every build of the crate rewrites all its ELFs in [`qemu_target_dir`]. Tests that
+/// build with different environments must not run at the same time: keep them in
+/// different test files (cargo runs test binaries one after the other).
+///
+/// # Panics
+/// If cargo cannot be started or the build fails (its output goes to the terminal).
+pub fn build_elfs(package: &str, bins: &[&str], envs: &[(&str, &OsStr)]) -> Vec<PathBuf> {
     // `$CARGO` is the cargo running this test: same toolchain as the outer build.
     let cargo = env::var_os("CARGO").unwrap_or_else(|| OsString::from("cargo"));
     let target_dir = qemu_target_dir();
-    let status = Command::new(&cargo)
-        .current_dir(workspace_root())
+    let mut cmd = Command::new(&cargo);
+    cmd.current_dir(workspace_root())
         .args(["build", "--release", "--target", TARGET])
-        .args(["-p", package, "--bin", bin])
+        .args(["-p", package]);
+    for bin in bins {
+        cmd.args(["--bin", bin]);
+    }
+    for (k, v) in envs {
+        cmd.env(k, v);
+    }
+    let status = cmd
         .env("CARGO_TARGET_DIR", &target_dir)
         .stdin(Stdio::null())
         .status()
         .unwrap_or_else(|e| panic!("cannot start {cargo:?}: {e}"));
     assert!(
         status.success(),
-        "cross build of {package}/{bin} for {TARGET} failed ({status})"
+        "cross build of {package} {bins:?} for {TARGET} failed ({status})"
     );
-    let elf = target_dir.join(TARGET).join("release").join(bin);
-    assert!(elf.is_file(), "built, but {} is missing", elf.display());
-    elf
+    bins.iter()
+        .map(|bin| {
+            let elf = target_dir.join(TARGET).join("release").join(bin);
+            assert!(elf.is_file(), "built, but {} is missing", elf.display());
+            elf
+        })
+        .collect()
+}
+
+/// `llvm-size` of an ELF (Berkeley format: text, data, bss), or `None` if the tool is
+/// missing or fails. `$LLVM_SIZE` overrides the binary.
+pub fn llvm_size(elf: &Path) -> Option<ElfSize> {
+    let tool = env::var_os("LLVM_SIZE").unwrap_or_else(|| OsString::from("llvm-size"));
+    let out = Command::new(tool).arg(elf).output().ok()?;
+    if !out.status.success() {
+        return None;
+    }
+    let text = String::from_utf8_lossy(&out.stdout);
+    // Second line: "text data bss dec hex filename".
+    let mut f = text.lines().nth(1)?.split_whitespace();
+    let mut next = || f.next()?.parse::<u64>().ok();
+    Some(ElfSize {
+        text: next()?,
+        data: next()?,
+        bss: next()?,
+    })
+}
+
+/// Section sizes of an ELF [bytes].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ElfSize {
+    /// Code and constants (flash).
+    pub text: u64,
+    /// Initialised statics (flash and RAM).
+    pub data: u64,
+    /// Zeroed statics (RAM).
+    pub bss: u64,
+}
+
+impl ElfSize {
+    /// Flash used: text and the initial values of data.
+    pub fn flash(&self) -> u64 {
+        self.text + self.data
+    }
+
+    /// Static RAM: data and bss (the stack comes on top).
+    pub fn static_ram(&self) -> u64 {
+        self.data + self.bss
+    }
 }
 
 /// How to run QEMU.

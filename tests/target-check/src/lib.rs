@@ -21,13 +21,29 @@
 //! Each case line is `"{idx} {bits[0]:08x} {bits[1]:08x} ..."`. On the host, [`host`] also
 //! builds the thumbv7em ELF and runs QEMU (optionally with `-icount shift=0` for instruction
 //! counts), for reuse by other target tests.
+//!
+//! Two more thumbv7em programs use the same framing and helpers:
+//! - `monitor-replay` ([`write_replay_report`]): the streaming `Monitor` over a raw trace
+//!   embedded in flash as a TMS1 blob ([`tms1`]), one case line per tooth record
+//!   (`ToothRecord::to_words`), compared by `tests/monitor_replay.rs` with host-sim's replay
+//!   of the same trace;
+//! - `icount-bench` ([`bench`]): instruction counts of the per-sample and per-tooth work
+//!   under `-icount`, run by `tests/icount_bench.rs`.
 #![no_std]
 
 #[cfg(not(target_os = "none"))]
 extern crate std;
 
+pub mod bench;
 #[cfg(not(target_os = "none"))]
 pub mod host;
+#[cfg(target_os = "none")]
+pub mod semihosting;
+pub mod tms1;
+
+use estimator_core::monitor::{Monitor, MonitorConfig, MonitorState};
+use estimator_core::ConfigError;
+use tms1::{Tms1, Tms1Error};
 
 use core::fmt::{self, Write};
 
@@ -59,6 +75,69 @@ pub fn write_report(w: &mut impl Write) -> fmt::Result {
     });
     result?;
     writeln!(w, "{END_PREFIX}{count}")
+}
+
+/// The monitor configuration of a replay: `MonitorConfig::default()` at the trace's sample
+/// rate (what `host-sim replay` runs when given no config file).
+pub fn replay_config(sample_rate_hz: f32) -> MonitorConfig {
+    MonitorConfig {
+        sample_rate_hz,
+        ..MonitorConfig::default()
+    }
+}
+
+/// Why a replay could not run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ReplayError {
+    /// The blob is not a well-formed TMS1 blob.
+    Blob(Tms1Error),
+    /// The monitor refused its configuration (e.g. a non-positive sample rate).
+    Config(ConfigError),
+    /// Writing the report failed.
+    Write,
+}
+
+impl fmt::Display for ReplayError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Blob(e) => write!(f, "trace blob: {e}"),
+            Self::Config(e) => write!(f, "monitor config: {e}"),
+            Self::Write => f.write_str("writing the report failed"),
+        }
+    }
+}
+
+impl From<fmt::Error> for ReplayError {
+    fn from(_: fmt::Error) -> Self {
+        Self::Write
+    }
+}
+
+/// Checks `blob` and builds the replay monitor for it.
+pub fn replay_monitor(blob: &[u8]) -> Result<(Tms1<'_>, Monitor), ReplayError> {
+    let trace = Tms1::parse(blob).map_err(ReplayError::Blob)?;
+    let monitor = replay_config(trace.sample_rate_hz())
+        .build()
+        .map_err(ReplayError::Config)?;
+    Ok((trace, monitor))
+}
+
+/// Runs the monitor over every sample of `blob` and writes the framed report: one case line
+/// per tooth record, `"{record index} {to_words()...}"`. Nothing is written when the blob or
+/// the configuration is refused. Returns the number of records.
+pub fn write_replay_report(w: &mut impl Write, blob: &[u8]) -> Result<u32, ReplayError> {
+    let (trace, monitor) = replay_monitor(blob)?;
+    let mut state = MonitorState::default();
+    writeln!(w, "{BEGIN}")?;
+    let mut count: u32 = 0;
+    for s in trace.samples() {
+        if let Some(rec) = monitor.process(&mut state, &s) {
+            write_case(w, count, &rec.to_words())?;
+            count = count.wrapping_add(1);
+        }
+    }
+    writeln!(w, "{END_PREFIX}{count}")?;
+    Ok(count)
 }
 
 /// Why a report could not be read back.
