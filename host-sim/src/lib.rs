@@ -7,10 +7,19 @@
 //! - [`estimate`]: per-tooth forces in a CSV -> immersion estimates.
 //! - [`config`]: the TOML files (tool, coefficients).
 //! - [`lstsq`]: least squares by Householder QR, for the fit.
+//! - [`trace`]: the raw trace CSV (reader, writer) and the binary samples of the QEMU image.
+//! - [`replay`]: a trace through the streaming Monitor (`replay`, `bench-replay`), writing
+//!   [`records`] (per-tooth CSV) and a [`plot`]; [`kistler`] reads dynamometer exports.
+//! - [`sim`]: the analytic trace simulator (`simulate`).
 
 pub mod config;
 pub mod estimate;
 pub mod gen_poly;
+pub mod kistler;
 pub mod lstsq;
+pub mod plot;
+pub mod records;
+pub mod replay;
+pub mod sim;
 pub mod trace;
 pub mod voxel;

@@ -2,7 +2,7 @@
 
 use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand, ValueEnum};
-use host_sim::{config, estimate, gen_poly};
+use host_sim::{config, estimate, gen_poly, plot, replay, sim, trace};
 use std::fs::File;
 use std::io::{BufReader, BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -97,6 +97,44 @@ enum Command {
         #[arg(long, value_enum, default_value_t = RouteArg::Auto)]
         route: RouteArg,
     },
+    /// Simulate a cut (tool, machine, timeline in a scenario TOML) into a raw trace CSV.
+    #[command(
+        after_help = "Scenario format: host-sim/examples/cut.toml (every key commented) and \
+                      the `host_sim::sim::Scenario` docs. Trace format: docs/formats.md."
+    )]
+    Simulate {
+        /// Scenario (TOML).
+        #[arg(long, value_name = "FILE")]
+        scenario: PathBuf,
+        /// Raw trace CSV to write; default: standard output.
+        #[arg(long, value_name = "FILE")]
+        output: Option<PathBuf>,
+    },
+    /// Replay a raw trace (or a Kistler DynoWare export) through the streaming Monitor.
+    #[command(after_help = replay::REPLAY_HELP)]
+    Replay(replay::ReplayArgs),
+    /// Convert a raw trace CSV into the binary samples of the QEMU image (docs/formats.md).
+    TraceBin {
+        /// Raw trace CSV.
+        #[arg(long, value_name = "FILE")]
+        trace: PathBuf,
+        /// Binary sample file to write.
+        #[arg(long, value_name = "FILE")]
+        output: PathBuf,
+    },
+    /// Time replay (parse + Monitor, and Monitor alone) on a synthetic 3-channel 20 kS/s
+    /// trace written to a temporary file (BENCHMARKS.md, "Replay throughput").
+    BenchReplay {
+        /// Length of the synthetic trace [s].
+        #[arg(long, default_value_t = 60.0)]
+        seconds: f64,
+        /// Runs of each measurement; the fastest is reported.
+        #[arg(long, default_value_t = 3)]
+        repeat: u32,
+    },
+    /// Simulate milling a block along a toolpath (G-code or timed CSV) by voxel material
+    /// removal (paper 004): forces, torque and the true engagement per 1/24 revolution.
+    Voxel(host_sim::voxel::VoxelArgs),
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -161,6 +199,11 @@ fn run(cli: Cli) -> Result<()> {
             solver,
             route,
         } => estimate_cmd(&input, tool.as_deref(), output.as_deref(), solver, route),
+        Command::Simulate { scenario, output } => simulate_cmd(&scenario, output.as_deref()),
+        Command::Replay(args) => replay_cmd(&args),
+        Command::TraceBin { trace, output } => trace_bin_cmd(&trace, &output),
+        Command::BenchReplay { seconds, repeat } => bench_replay_cmd(seconds, repeat),
+        Command::Voxel(args) => host_sim::voxel::run(&args),
     }
 }
 
@@ -234,6 +277,115 @@ fn estimate_cmd(
         summary.rows,
         summary.valid,
         summary.rows - summary.valid
+    );
+    Ok(())
+}
+
+fn simulate_cmd(scenario: &Path, output: Option<&Path>) -> Result<()> {
+    let name = scenario.display().to_string();
+    let text = std::fs::read_to_string(scenario).with_context(|| format!("cannot read {name}"))?;
+    let sc = sim::Scenario::from_toml(&text, &name)?;
+    let started = std::time::Instant::now();
+    let summary = match output {
+        Some(p) => write_then_rename(p, |w| Ok(sim::write_trace(&sc, w)?.0))?,
+        None => {
+            let out = BufWriter::new(std::io::stdout().lock());
+            sim::write_trace(&sc, out)?.0
+        }
+    };
+    let secs = started.elapsed().as_secs_f64();
+    eprintln!(
+        "{name}: {} rows, {:.3} s of trace in {secs:.2} s ({:.0}x real time); {} sync pulses \
+         ({} dropped); clipped samples {:?}; peak F_t {:.1} N",
+        summary.rows,
+        summary.duration_s,
+        summary.duration_s / secs.max(1e-9),
+        summary.sync_pulses,
+        summary.sync_dropped,
+        summary.clipped,
+        summary.peak_ft_n
+    );
+    Ok(())
+}
+
+fn replay_cmd(args: &replay::ReplayArgs) -> Result<()> {
+    let plot_format = args
+        .plot
+        .as_deref()
+        .map(plot::PlotFormat::from_path)
+        .transpose()?;
+    let (mut src, loaded) = replay::open_replay(args)?;
+    let name = src.name().to_string();
+    let format = if args.bits {
+        replay::RecordFormat::Bits
+    } else {
+        replay::RecordFormat::Csv
+    };
+    let outputs = replay::ReplayOutputs {
+        plot: plot_format.is_some(),
+    };
+    let total = std::fs::metadata(&args.trace).ok().map(|m| m.len());
+    let pb = replay::progress_bar(total);
+    let (summary, plot_data) = match &args.output {
+        Some(p) => write_then_rename(p, |w| {
+            replay::replay_to(&mut *src, &loaded.config, w, format, &outputs, pb.as_ref())
+        })?,
+        None => {
+            let out = BufWriter::new(std::io::stdout().lock());
+            replay::replay_to(
+                &mut *src,
+                &loaded.config,
+                out,
+                format,
+                &outputs,
+                pb.as_ref(),
+            )?
+        }
+    };
+    eprint!("{}", summary.report(&name));
+    if let (Some(path), Some(fmt), Some(data)) = (&args.plot, plot_format, plot_data) {
+        let bytes = plot::render(&data, fmt)?;
+        write_then_rename(path, |w| {
+            w.write_all(&bytes)
+                .with_context(|| format!("cannot write {}", path.display()))
+        })?;
+        eprintln!("wrote {}", path.display());
+    }
+    Ok(())
+}
+
+fn trace_bin_cmd(trace_path: &Path, output: &Path) -> Result<()> {
+    let mut rd = trace::TraceReader::open(trace_path)?;
+    let n = write_then_rename(output, |w| trace::write_sample_bin(&mut rd, w))?;
+    eprintln!(
+        "{}: {n} samples -> {}",
+        trace_path.display(),
+        output.display()
+    );
+    Ok(())
+}
+
+fn bench_replay_cmd(seconds: f64, repeat: u32) -> Result<()> {
+    let r = replay::bench_replay(seconds, repeat, &std::env::temp_dir())?;
+    println!(
+        "replay of {:.1} s at 20 kS/s, 3 channels ({} samples, {:.1} MB, {} tooth records), \
+         best of {repeat}:",
+        r.seconds,
+        r.samples,
+        r.bytes as f64 / 1e6,
+        r.records
+    );
+    println!(
+        "  parse + Monitor: {:.3} s wall, {:.0}x real time ({:.2} M samples/s)",
+        r.replay_s,
+        r.replay_x(),
+        r.samples as f64 / r.replay_s / 1e6
+    );
+    println!(
+        "  Monitor only:    {:.3} s wall, {:.0}x real time ({:.1} M samples/s)",
+        r.monitor_s,
+        r.monitor_x(),
+        r.samples as f64 / r.monitor_s / 1e6
     );
     Ok(())
 }

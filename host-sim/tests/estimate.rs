@@ -135,8 +135,20 @@ fn keeps_input_columns_in_order_and_appends_the_estimate() {
     assert_eq!(
         h,
         [
-            "case", "fx_n", "ft_n", "tc_mm", "rr_true", "ra_true", "rr", "ra", "dr_mm", "da_mm",
-            "status", "method", "dr_sigma_mm", "da_sigma_mm"
+            "case",
+            "fx_n",
+            "ft_n",
+            "tc_mm",
+            "rr_true",
+            "ra_true",
+            "rr",
+            "ra",
+            "dr_mm",
+            "da_mm",
+            "status",
+            "method",
+            "dr_sigma_mm",
+            "da_sigma_mm"
         ]
     );
     let ids: Vec<&str> = rows.iter().map(|r| r[0].as_str()).collect();

@@ -165,9 +165,7 @@ impl Cutter {
         if let Some(v) = f.length_mm {
             c.length_mm = v;
         }
-        c.runout_mm = f
-            .runout_mm
-            .unwrap_or_else(|| vec![0.0; c.flutes as usize]);
+        c.runout_mm = f.runout_mm.unwrap_or_else(|| vec![0.0; c.flutes as usize]);
         c.validate().with_context(|| file.to_string())?;
         Ok(c)
     }

@@ -103,7 +103,7 @@ impl Stock {
         if cols.try_reserve_exact(count).is_err() {
             bail!(
                 "stock: cannot allocate {} MB for {} x {} columns",
-                count * std::mem::size_of::<Column>() >> 20,
+                (count * std::mem::size_of::<Column>()) >> 20,
                 n[0],
                 n[1]
             );
@@ -148,21 +148,12 @@ impl Stock {
     /// the voxels with centres in `[za, zb)` are `z_index(za)..z_index(zb)`.
     #[inline]
     pub fn z_index(&self, z: f64) -> u16 {
-        let k = ((z - self.origin[2]) / self.voxel_mm - 0.5).ceil();
-        k.clamp(0.0, self.nz as f64) as u16
-    }
-
-    /// First column index along `axis` (0 = x, 1 = y) whose centre is at or above `c`,
-    /// unclamped.
-    #[inline]
-    pub fn first_cell_at_or_above(&self, axis: usize, c: f64) -> i64 {
-        ((c - self.origin[axis]) / self.voxel_mm - 0.5).ceil() as i64
-    }
-
-    /// Last column index along `axis` whose centre is at or below `c`, unclamped.
-    #[inline]
-    pub fn last_cell_at_or_below(&self, axis: usize, c: f64) -> i64 {
-        ((c - self.origin[axis]) / self.voxel_mm - 0.5).floor() as i64
+        // ceil without the libm call (see sim.rs `fast_ceil`); clamped first so the cast
+        // cannot overflow.
+        let x = ((z - self.origin[2]) / self.voxel_mm - 0.5).clamp(-1.0, self.nz as f64);
+        let t = x as i64;
+        let k = if (t as f64) < x { t + 1 } else { t };
+        k.clamp(0, self.nz as i64) as u16
     }
 
     /// Centre of cell `i` along `axis` [mm].
@@ -236,7 +227,11 @@ impl Stock {
     fn intervals(&self, idx: usize) -> Vec<[u16; 2]> {
         let c = self.cols[idx];
         if c.a[0] == OVF {
-            return self.overflow.get(&(idx as u32)).cloned().unwrap_or_default();
+            return self
+                .overflow
+                .get(&(idx as u32))
+                .cloned()
+                .unwrap_or_default();
         }
         [c.a, c.b].into_iter().filter(|iv| iv[0] < iv[1]).collect()
     }
@@ -249,7 +244,12 @@ impl Stock {
         }
         match ivs.len() {
             0 => *c = Column { a: EMPTY, b: EMPTY },
-            1 => *c = Column { a: ivs[0], b: EMPTY },
+            1 => {
+                *c = Column {
+                    a: ivs[0],
+                    b: EMPTY,
+                }
+            }
             2 => {
                 *c = Column {
                     a: ivs[0],
@@ -368,7 +368,14 @@ mod tests {
         assert!(s.occupied_in(0, 13, 15));
         assert!(!s.occupied_in(0, 12, 14));
         // Spanning two intervals and the gap between them.
-        assert_eq!(s.subtract(0, 10, 16), Removed { n: 4, lo: 10, hi: 16 });
+        assert_eq!(
+            s.subtract(0, 10, 16),
+            Removed {
+                n: 4,
+                lo: 10,
+                hi: 16
+            }
+        );
         assert_eq!(s.intervals(0), vec![[0, 5], [8, 10], [16, 20]]);
         assert_eq!(s.subtract(0, 0, 9).n, 6);
         assert_eq!(s.intervals(0), vec![[9, 10], [16, 20]]);

@@ -130,9 +130,7 @@ impl Segment {
 impl Toolpath {
     /// Time at the end of the last move [s].
     pub fn t_end(&self) -> f64 {
-        self.segments
-            .last()
-            .map_or(self.t_start, |s| s.t0 + s.dur)
+        self.segments.last().map_or(self.t_start, |s| s.t0 + s.dur)
     }
 
     /// The tool's state at time `t`. `cursor` remembers the segment of the last call, so
@@ -455,7 +453,10 @@ impl Machine {
         }
         let has_axis = target.iter().any(Option::is_some);
         if !has_axis {
-            if motion_word && matches!(self.motion, Motion::Cw | Motion::Ccw) && (i.is_some() || j.is_some()) {
+            if motion_word
+                && matches!(self.motion, Motion::Cw | Motion::Ccw)
+                && (i.is_some() || j.is_some())
+            {
                 // A full circle back to the start point: `G2 I5` with no axis words.
             } else {
                 if i.is_some() || j.is_some() || r.is_some() {
@@ -488,7 +489,13 @@ impl Machine {
                 } else {
                     self.feed_rate()?
                 };
-                self.push(end_pos, None, seg_len / rate * 60.0, self.motion == Motion::Linear, line);
+                self.push(
+                    end_pos,
+                    None,
+                    seg_len / rate * 60.0,
+                    self.motion == Motion::Linear,
+                    line,
+                );
             }
             Motion::Cw | Motion::Ccw => {
                 let ccw = self.motion == Motion::Ccw;
@@ -536,7 +543,9 @@ impl Machine {
                 let (dx, dy) = (ex - sx, ey - sy);
                 let d = dx.hypot(dy);
                 if d < 1e-9 {
-                    bail!("R arc with the end point equal to the start (use I/J for a full circle)");
+                    bail!(
+                        "R arc with the end point equal to the start (use I/J for a full circle)"
+                    );
                 }
                 if r.abs() < 0.5 * d - 1e-6 {
                     bail!("R{r} is smaller than half the chord ({:.4} mm)", 0.5 * d);
@@ -602,12 +611,13 @@ impl Machine {
     }
 }
 
-/// A rectangular pocket program: zig-zag clearing with a ramp entry into each level, then
-/// one finishing lap along the wall, level by level; rapid retract at the end. Used by the
-/// benchmark and the tests (written to `tests/data/pocket_60x40.nc`).
+/// A rectangular pocket program: per level, a ramp entry, zig-zag roughing that leaves
+/// `allowance` on the walls, and one climb-milling finishing lap along the wall that
+/// removes it; rapid retract at the end. Used by the benchmark and the tests (written to
+/// `tests/data/pocket_60x40.nc`).
 ///
 /// The pocket spans `[x0, x0 + w] x [y0, y0 + h]`, from `z = 0` down to `-depth` in
-/// levels of `step_down`; the tool of radius `r` clears it with a stepover `stepover`.
+/// levels of `step_down`; the tool of radius `r` roughs it with stepover `stepover`.
 #[allow(clippy::too_many_arguments)]
 pub fn pocket_program(
     [x0, y0]: [f64; 2],
@@ -616,63 +626,64 @@ pub fn pocket_program(
     step_down: f64,
     r: f64,
     stepover: f64,
+    allowance: f64,
     feed_mm_min: f64,
     rpm: f64,
 ) -> String {
-    use std::fmt::Write;
-    let mut s = String::new();
-    let mut ln = |s: &mut String, text: String| {
-        let _ = writeln!(s, "{text}");
-    };
-    ln(
-        &mut s,
+    let mut lines: Vec<String> = vec![
         format!(
-            "(pocket {w} x {h} x {depth} mm, tool R{r}, stepover {stepover}, \
-             {step_down} mm per level)"
+            "(pocket {w} x {h} x {depth} mm at X{x0} Y{y0}, tool R{r}: {step_down} mm levels, \
+             stepover {stepover}, wall allowance {allowance}, F{feed_mm_min} S{rpm})"
         ),
+        "G21 G17 G90 G94".into(),
+        format!("S{rpm} M3"),
+        "G0 Z5".into(),
+    ];
+    // Tool-centre limits: the wall, and the roughing boundary inside it.
+    let (xa, xb, ya, yb) = (x0 + r, x0 + w - r, y0 + r, y0 + h - r);
+    let (ra, rb, sa, sb) = (
+        xa + allowance,
+        xb - allowance,
+        ya + allowance,
+        yb - allowance,
     );
-    ln(&mut s, "G21 G17 G90 G94".into());
-    ln(&mut s, format!("S{rpm} M3"));
-    let (xa, xb) = (x0 + r, x0 + w - r);
-    let (ya, yb) = (y0 + r, y0 + h - r);
-    ln(&mut s, format!("G0 Z5"));
-    ln(&mut s, format!("G0 X{xa:.4} Y{ya:.4}"));
     let levels = (depth / step_down).ceil() as usize;
-    // Ramp at about 3 degrees: a flat end mill cannot plunge, it enters on a slope.
+    // Ramp at 3 degrees: a flat end mill cannot plunge, it enters on a slope.
     let ramp_slope = 3f64.to_radians().tan();
     for level in 1..=levels {
         let z = -(level as f64 * step_down).min(depth);
-        let z_prev = -((level - 1) as f64 * step_down).min(depth);
-        ln(&mut s, format!("(level {level}: z {z:.3})"));
-        ln(&mut s, format!("G0 X{xa:.4} Y{ya:.4}"));
-        ln(&mut s, format!("G0 Z{:.4}", z_prev + 0.5));
-        ln(&mut s, format!("G1 Z{z_prev:.4} F{:.1}", feed_mm_min * 0.5));
-        let ramp_len = ((z_prev - z) / ramp_slope).min(xb - xa);
-        ln(
-            &mut s,
-            format!("G1 X{:.4} Z{z:.4} F{feed_mm_min:.1}", xa + ramp_len),
-        );
-        ln(&mut s, format!("G1 X{xa:.4}"));
-        // Zig-zag across y.
-        let rows = ((yb - ya) / stepover).ceil().max(1.0) as usize;
-        let mut left = true;
+        // (+ 0.0 turns the first level's -0 into 0.)
+        let z_prev = -((level - 1) as f64 * step_down).min(depth) + 0.0;
+        lines.push(format!("(level {level}: z {z:.3})"));
+        // Ramp backwards onto the first row's start: the row's pass then clears the wedge
+        // left under the ramp on its way.
+        let ramp_len = ((z_prev - z) / ramp_slope).min(rb - ra);
+        lines.push(format!("G0 X{:.4} Y{sa:.4}", ra + ramp_len));
+        lines.push(format!("G0 Z{:.4}", z_prev + 0.5));
+        lines.push(format!("G1 Z{z_prev:.4} F{:.1}", feed_mm_min * 0.5));
+        lines.push(format!("G1 X{ra:.4} Z{z:.4} F{feed_mm_min:.1}"));
+        // Zig-zag along x, stepping over in y.
+        let rows = ((sb - sa) / stepover).ceil().max(1.0) as usize;
         for row in 0..=rows {
-            let y = (ya + row as f64 * (yb - ya) / rows as f64).min(yb);
-            ln(&mut s, format!("G1 Y{y:.4}"));
-            let x = if left { xb } else { xa };
-            ln(&mut s, format!("G1 X{x:.4}"));
-            left = !left;
+            let y = sa + row as f64 * (sb - sa) / rows as f64;
+            lines.push(format!("G1 Y{y:.4}"));
+            let x = if row % 2 == 0 { rb } else { ra };
+            lines.push(format!("G1 X{x:.4}"));
         }
-        // Finishing lap along the wall (climb: clockwise inside a pocket with M3).
-        ln(&mut s, format!("G1 X{xa:.4} Y{yb:.4}"));
-        ln(&mut s, format!("G1 X{xb:.4}"));
-        ln(&mut s, format!("G1 Y{ya:.4}"));
-        ln(&mut s, format!("G1 X{xa:.4}"));
-        ln(&mut s, format!("G1 Y{yb:.4}"));
+        // Finishing lap: counter-clockwise inside the pocket, so the wall is on the right
+        // of the path: climb milling with a clockwise (M3) spindle.
+        lines.push(format!("G1 X{ra:.4} Y{sa:.4}"));
+        lines.push(format!("G1 X{xa:.4} Y{ya:.4}"));
+        lines.push(format!("G1 X{xb:.4}"));
+        lines.push(format!("G1 Y{yb:.4}"));
+        lines.push(format!("G1 X{xa:.4}"));
+        lines.push(format!("G1 Y{ya:.4}"));
+        lines.push("G0 Z5".into());
     }
-    ln(&mut s, "G0 Z5".into());
-    ln(&mut s, "M5".into());
-    ln(&mut s, "M30".into());
+    lines.push("M5".into());
+    lines.push("M30".into());
+    let mut s = lines.join("\n");
+    s.push('\n');
     s
 }
 
@@ -717,12 +728,14 @@ mod tests {
         // Quarter circle clockwise from (10, 0) to (0, -10) about the origin.
         let a = Toolpath::from_gcode("G1 X10 Y0 F600\nG2 X0 Y-10 I-10 J0\n", "a.nc", &OPTS)
             .expect("ij");
-        let b = Toolpath::from_gcode("G1 X10 Y0 F600\nG2 X0 Y-10 R10\n", "b.nc", &OPTS)
-            .expect("r");
+        let b = Toolpath::from_gcode("G1 X10 Y0 F600\nG2 X0 Y-10 R10\n", "b.nc", &OPTS).expect("r");
         let (sa, sb) = (a.segments[1], b.segments[1]);
         let (aa, ab) = (sa.arc.expect("arc"), sb.arc.expect("arc"));
         assert!((aa.sweep + PI / 2.0).abs() < 1e-9, "{aa:?}");
-        assert!((ab.sweep - aa.sweep).abs() < 1e-9 && close([ab.centre[0], ab.centre[1], 0.0], [0.0; 3]));
+        assert!(
+            (ab.sweep - aa.sweep).abs() < 1e-9
+                && close([ab.centre[0], ab.centre[1], 0.0], [0.0; 3])
+        );
         let (mid, vel) = sa.at(0.5);
         let h = 10.0 / 2f64.sqrt();
         assert!(close(mid, [h, -h, 10.0]), "{mid:?}");
@@ -781,7 +794,17 @@ mod tests {
 
     #[test]
     fn pocket_program_parses() {
-        let text = pocket_program([0.0, 0.0], [60.0, 40.0], 5.0, 2.5, 5.0, 5.0, 900.0, 6000.0);
+        let text = pocket_program(
+            [0.0, 0.0],
+            [60.0, 40.0],
+            5.0,
+            2.5,
+            5.0,
+            5.0,
+            0.5,
+            900.0,
+            6000.0,
+        );
         let p = Toolpath::from_gcode(&text, "pocket", &OPTS).expect("parses");
         let (len, t) = p.feed_totals();
         assert!(len > 500.0 && t > 60.0, "{len} mm in {t} s");
