@@ -22,6 +22,7 @@
 
 use crate::drive::{FeedDrive, SpindleModel};
 use crate::estimator::{Estimate, Estimator, EstimatorConfig, Measured, Method};
+use crate::fmath;
 use crate::probe::{NoProbe, Probe, Stage};
 use crate::status::Status;
 use crate::tooth::{Period, SyncMode, Timing, ToothState, CHANNELS};
@@ -123,7 +124,7 @@ impl Default for MonitorConfig {
             max_rpm: 24_000.0,
             max_period_jump: 0.1,
             filter_revs: 4,
-            transient_rel: 0.03,
+            transient_rel: 0.02,
             feed_change_rel: 0.03,
             clip: [f32::INFINITY; 3],
         }
@@ -184,10 +185,13 @@ impl MonitorConfig {
             return Err(OutOfRange("max_rpm"));
         }
         Ok(Monitor {
-            cfg: self,
             est,
             timing,
             window,
+            settle: window.max(2 * n),
+            inv_flutes: 1.0 / n as f32,
+            inv_revs: 1.0 / self.filter_revs as f32,
+            cfg: self,
         })
     }
 }
@@ -294,8 +298,8 @@ struct Blocks {
     newest: Entry,
     before: Entry,
     filter: Entry,
-    /// Standard error of the filter's `F_ax`, second force.
-    sigma: [f32; 2],
+    /// Variance of the filter's `F_ax`, second force (squared standard error) [N^2].
+    var: [f32; 2],
 }
 
 /// One valid tooth in the filter window.
@@ -380,6 +384,10 @@ pub struct Monitor {
     est: Estimator,
     timing: Timing,
     window: usize,
+    /// Derived once: `settle_teeth()`, `1 / flutes`, `1 / filter_revs`.
+    settle: usize,
+    inv_flutes: f32,
+    inv_revs: f32,
 }
 
 impl Monitor {
@@ -394,6 +402,7 @@ impl Monitor {
     }
 
     /// Feeds one sample; returns a record when a tooth period closes.
+    #[inline(always)]
     pub fn process(&self, st: &mut MonitorState, s: &Sample) -> Option<ToothRecord> {
         self.process_with(st, s, &mut NoProbe)
     }
@@ -417,20 +426,35 @@ impl Monitor {
         s: &Sample,
         probe: &mut P,
     ) -> Option<ToothRecord> {
-        let v = match self.cfg.feed_velocity {
-            FeedVelocity::Measured => s.feed_velocity_mm_min,
-            FeedVelocity::Nominal(v) => v,
-        };
-        let x: [f32; CHANNELS] = [s.feed[0], s.feed[1], v[0], v[1], s.spindle];
-        let p = self.timing.push(&mut st.tooth, &x, s.sync)?;
+        let p = self.period(st, s)?;
         probe.mark(Stage::Period);
         let rec = self.tooth(st, &p, probe);
         probe.mark(Stage::Record);
         Some(rec)
     }
 
+    /// The per-sample part: the sample into the tooth averages; the period when one closes.
+    #[inline(always)]
+    pub(crate) fn period(&self, st: &mut MonitorState, s: &Sample) -> Option<Period> {
+        let v = match self.cfg.feed_velocity {
+            FeedVelocity::Measured => s.feed_velocity_mm_min,
+            FeedVelocity::Nominal(v) => v,
+        };
+        let x: [f32; CHANNELS] = [s.feed[0], s.feed[1], v[0], v[1], s.spindle];
+        self.timing.push(&mut st.tooth, &x, s.sync)
+    }
+
     /// Everything that happens once per tooth period.
-    fn tooth<P: Probe>(&self, st: &mut MonitorState, p: &Period, probe: &mut P) -> ToothRecord {
+    ///
+    /// Never inlined: it runs once per tooth, and keeping it out of line keeps the
+    /// per-sample code around `process` small and the same in every program that links it.
+    #[inline(never)]
+    pub(crate) fn tooth<P: Probe>(
+        &self,
+        st: &mut MonitorState,
+        p: &Period,
+        probe: &mut P,
+    ) -> ToothRecord {
         let n = self.cfg.estimator.tool.flutes as usize;
         let fs = self.cfg.sample_rate_hz;
         let rpm = if p.samples > 0 {
@@ -442,11 +466,11 @@ impl Monitor {
         let speed = crate::fmath::hypot(v0, v1);
         let tc_mm = speed / (n as f32 * rpm);
         let (fx_n, f2_n, moving) = match &self.cfg.input {
-            Input::Motor { feed, spindle } => (
-                feed.feed_force_n([m0, m1], [v0, v1]),
-                spindle.tangential_force_n(sp, rpm, self.cfg.estimator.tool.radius_mm),
-                feed.moving([v0, v1]),
-            ),
+            Input::Motor { feed, spindle } => {
+                let (fx_n, moving) = feed.feed_force_and_moving([m0, m1], [v0, v1]);
+                let ft_n = spindle.tangential_force_n(sp, rpm, self.cfg.estimator.tool.radius_mm);
+                (fx_n, ft_n, moving)
+            }
             Input::Dynamometer => (m0, m1, speed > 0.0),
         };
         let mut rec = ToothRecord {
@@ -469,7 +493,8 @@ impl Monitor {
         if !usable {
             rec.status.set_if(rec.status.is_valid(), Status::NON_FINITE);
             st.settle = self.settle_teeth();
-            return self.finish(st, rec, None);
+            self.finish(st, &mut rec);
+            return rec;
         }
         // Air cut or stopped feed: nothing to estimate, and the cut that follows starts
         // with an entry.
@@ -482,7 +507,8 @@ impl Monitor {
             rec.status |= Status::NOT_CUTTING;
             st.settle = self.settle_teeth();
             st.len = 0;
-            return self.finish(st, rec, None);
+            self.finish(st, &mut rec);
+            return rec;
         }
         // Feed change: this tooth's t_c against the mean of the last revolution, and the
         // feed direction against the last tooth's (reversal, corner, tight arc).
@@ -502,37 +528,9 @@ impl Monitor {
         st.last_rev_tc_mm = b.newest.tc_mm;
         probe.mark(Stage::Blocks);
         // Transient: the newest revolution against the one before (both runout-free).
-        if b.count >= 2 {
-            let (now, before) = (b.newest, b.before);
-            let mag = |e: &Entry| match self.cfg.input {
-                Input::Motor { .. } => e.f2_n,
-                Input::Dynamometer => crate::fmath::hypot(e.fx_n, e.f2_n),
-            };
-            let (a, c) = (mag(&now), mag(&before));
-            // Noise floor: the same flute one revolution apart, less the common change of
-            // the two revolutions, is noise (and runout drift) alone; its running variance
-            // sets how large a change of the revolution mean is more than noise.
-            let (new, old) = (st.back(0), st.back(n));
-            let r_mag = (mag(&new) - mag(&old)) - (a - c);
-            let r_fx = (new.fx_n - old.fx_n) - (now.fx_n - before.fx_n);
-            // The noise term may widen the limit up to NOISE_CAP_REL of the force and no
-            // further, and one tooth's residual enters the variance at most at that size:
-            // a breakage (a large same-flute change) or a heavy cut before a light one must
-            // not leave the detector blind to the next exit.
-            let m = a.abs().max(c.abs());
-            let cap = NOISE_CAP_REL * m;
-            let r2 = (r_mag * r_mag).max(r_fx * r_fx).min(cap * cap);
-            if r2.is_finite() {
-                st.noise_var += NOISE_ALPHA * (r2 - st.noise_var);
-            }
-            let noise = NOISE_SIGMAS * libm::sqrtf(st.noise_var / (n as f32 - 1.0).max(1.0));
-            // The feed force is held to the same scale: it can change alone (a reversal
-            // turns down milling into up milling at the same tangential force).
-            let limit = (self.cfg.transient_rel * m).max(noise.min(cap));
-            if (a - c).abs() > limit || (now.fx_n - before.fx_n).abs() > limit {
-                rec.status |= Status::TRANSIENT;
-                st.settle = self.settle_teeth();
-            }
+        if b.count >= 2 && self.transient(st, n, &b) {
+            rec.status |= Status::TRANSIENT;
+            st.settle = self.settle_teeth();
         }
         probe.mark(Stage::Transient);
         // The window is whole revolutions once the monitor has warmed up; until then, what
@@ -549,7 +547,8 @@ impl Monitor {
         if st.settle > 0 || st.len < self.settle_teeth() {
             rec.status |= Status::SETTLING;
             st.settle = st.settle.saturating_sub(1);
-            return self.finish(st, rec, None);
+            self.finish(st, &mut rec);
+            return rec;
         }
         probe.mark(Stage::Filter);
         let m = match self.cfg.input {
@@ -562,15 +561,60 @@ impl Monitor {
                 fy_n: filt.f2_n,
             },
         };
-        let e = self.est.estimate_with_scatter(filt.tc_mm, m, b.sigma);
+        let e = self.est.estimate_with_variance(filt.tc_mm, m, b.var);
         probe.mark(Stage::Estimate);
-        self.finish(st, rec, Some(e))
+        self.finish(st, &mut rec);
+        self.take_estimate(&mut rec, &e);
+        rec
+    }
+
+    /// The transient test on the newest revolution against the one before, and the update
+    /// of the running noise variance it is judged against.
+    #[inline(always)]
+    fn transient(&self, st: &mut MonitorState, n: usize, b: &Blocks) -> bool {
+        let (now, before) = (b.newest, b.before);
+        let mag = |e: &Entry| match self.cfg.input {
+            Input::Motor { .. } => e.f2_n,
+            Input::Dynamometer => crate::fmath::hypot(e.fx_n, e.f2_n),
+        };
+        let (a, c) = (mag(&now), mag(&before));
+        // Noise floor: the same flute one revolution apart, less the common change of
+        // the two revolutions, is noise (and runout drift) alone; its running variance
+        // sets how large a change of the revolution mean is more than noise.
+        let (new, old) = (st.back(0), st.back(n));
+        let r_mag = (mag(&new) - mag(&old)) - (a - c);
+        let r_fx = (new.fx_n - old.fx_n) - (now.fx_n - before.fx_n);
+        // The noise term may widen the limit up to NOISE_CAP_REL of the force and no
+        // further, and one tooth's residual enters the variance at most at that size:
+        // a breakage (a large same-flute change) or a heavy cut before a light one must
+        // not leave the detector blind to the next exit.
+        let m = fmath::max(a.abs(), c.abs());
+        let cap = NOISE_CAP_REL * m;
+        let r2 = fmath::min(fmath::max(r_mag * r_mag, r_fx * r_fx), cap * cap);
+        if r2.is_finite() {
+            st.noise_var += NOISE_ALPHA * (r2 - st.noise_var);
+        }
+        // The limit is `max(transient_rel m, min(noise, cap))`, never below `transient_rel
+        // m`: changes within that are no transient whatever the noise, and the square root
+        // behind the noise is taken only for the rare changes beyond it.
+        let (d_mag, d_fx) = ((a - c).abs(), (now.fx_n - before.fx_n).abs());
+        let floor = self.cfg.transient_rel * m;
+        if !(d_mag > floor || d_fx > floor) {
+            return false;
+        }
+        let noise =
+            NOISE_SIGMAS * libm::sqrtf(st.noise_var / fmath::max(n as f32 - 1.0, 1.0));
+        // The feed force is held to the same scale: it can change alone (a reversal
+        // turns down milling into up milling at the same tangential force).
+        let limit = fmath::max(floor, fmath::min(noise, cap));
+        d_mag > limit || d_fx > limit
     }
 
     /// One pass over the window in whole revolutions (blocks of `n` teeth, newest first):
     /// the newest two block means (transient test), the mean of the first `filter_revs`
-    /// (the filter), and the standard error of that mean from the scatter of the block
-    /// means (at least two blocks, so one-revolution filters still get a figure).
+    /// (the filter), and the variance of that mean from the scatter of the block means (at
+    /// least two blocks, so one-revolution filters still get a figure).
+    #[inline(always)]
     fn blocks(&self, st: &MonitorState, n: usize) -> Blocks {
         let revs = self.cfg.filter_revs as usize;
         let count = revs.max(2).min(st.len / n.max(1));
@@ -579,8 +623,24 @@ impl Monitor {
             ..Blocks::default()
         };
         let (mut sum, mut sum2) = ([0.0f32; 2], [0.0f32; 2]);
+        // The ring is read newest first, straight through: block `b` holds entries
+        // `b n .. (b + 1) n` back from the newest.
+        let mut i = st.head;
         for b in 0..count {
-            let m = st.mean(b * n, n);
+            let mut m = Entry::default();
+            for _ in 0..n {
+                i = i.wrapping_sub(1) & (MAX_WINDOW - 1);
+                let e = st.ring.get(i).copied().unwrap_or_default();
+                m.fx_n += e.fx_n;
+                m.f2_n += e.f2_n;
+                m.tc_mm += e.tc_mm;
+            }
+            // Same value as `1.0 / n as f32`, computed once at build.
+            let m = Entry {
+                fx_n: m.fx_n * self.inv_flutes,
+                f2_n: m.f2_n * self.inv_flutes,
+                tc_mm: m.tc_mm * self.inv_flutes,
+            };
             match b {
                 0 => out.newest = m,
                 1 => out.before = m,
@@ -591,12 +651,12 @@ impl Monitor {
                 out.filter.f2_n += m.f2_n;
                 out.filter.tc_mm += m.tc_mm;
             }
-            for (k, v) in [m.fx_n, m.f2_n].into_iter().enumerate() {
-                sum[k] += v;
-                sum2[k] += v * v;
-            }
+            sum[0] += m.fx_n;
+            sum2[0] += m.fx_n * m.fx_n;
+            sum[1] += m.f2_n;
+            sum2[1] += m.f2_n * m.f2_n;
         }
-        let inv = 1.0 / revs as f32;
+        let inv = self.inv_revs;
         out.filter = Entry {
             fx_n: out.filter.fx_n * inv,
             f2_n: out.filter.f2_n * inv,
@@ -604,10 +664,11 @@ impl Monitor {
         };
         if count >= 2 {
             let nb = count as f32;
-            out.sigma = [0, 1].map(|k| {
+            out.var = [0, 1].map(|k| {
                 let mean = sum[k] / nb;
-                let var = ((sum2[k] - nb * mean * mean) / (nb - 1.0)).max(0.0);
-                libm::sqrtf(var * inv)
+                let var = (sum2[k] - nb * mean * mean) / (nb - 1.0);
+                // `max(var, 0)`, NaN to 0.
+                (if var > 0.0 { var } else { 0.0 }) * inv
             });
         }
         out
@@ -615,28 +676,33 @@ impl Monitor {
 
     /// Teeth a disturbance keeps the immersion flagged: the window, and at least the two
     /// revolutions the transient test compares.
+    #[inline(always)]
     fn settle_teeth(&self) -> usize {
-        self.window.max(2 * self.cfg.estimator.tool.flutes as usize)
+        self.settle
     }
 
-    fn finish(&self, st: &MonitorState, mut rec: ToothRecord, e: Option<Estimate>) -> ToothRecord {
+    /// The filter output, into the record.
+    #[inline(always)]
+    fn finish(&self, st: &MonitorState, rec: &mut ToothRecord) {
         rec.fx_filt_n = st.fx_filt_n;
         rec.f2_filt_n = st.f2_filt_n;
         rec.tc_filt_mm = st.tc_filt_mm;
-        if let Some(e) = e {
-            rec.status |= e.status;
-            rec.method = e.method;
-            if rec.status.is_valid() {
-                let r = self.cfg.estimator.tool.radius_mm;
-                rec.rr = e.rr;
-                rec.ra = e.ra;
-                rec.dr_mm = e.dr_mm;
-                rec.da_mm = e.da_mm;
-                rec.dr_sigma_mm = e.rr_sigma * r;
-                rec.da_sigma_mm = e.ra_sigma * r;
-            }
+    }
+
+    /// The estimate, into the record.
+    #[inline(always)]
+    fn take_estimate(&self, rec: &mut ToothRecord, e: &Estimate) {
+        rec.status |= e.status;
+        rec.method = e.method;
+        if rec.status.is_valid() {
+            let r = self.cfg.estimator.tool.radius_mm;
+            rec.rr = e.rr;
+            rec.ra = e.ra;
+            rec.dr_mm = e.dr_mm;
+            rec.da_mm = e.da_mm;
+            rec.dr_sigma_mm = e.rr_sigma * r;
+            rec.da_sigma_mm = e.ra_sigma * r;
         }
-        rec
     }
 }
 

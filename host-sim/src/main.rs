@@ -323,10 +323,12 @@ fn replay_cmd(args: &replay::ReplayArgs) -> Result<()> {
     };
     let outputs = replay::ReplayOutputs {
         plot: plot_format.is_some(),
+        alarms: loaded.alarms,
+        events: args.alarms.is_some(),
     };
     let total = std::fs::metadata(&args.trace).ok().map(|m| m.len());
     let pb = replay::progress_bar(total);
-    let (summary, plot_data) = match &args.output {
+    let (summary, plot_data, events) = match &args.output {
         Some(p) => write_then_rename(p, |w| {
             replay::replay_to(&mut *src, &loaded.config, w, format, &outputs, pb.as_ref())
         })?,
@@ -343,6 +345,13 @@ fn replay_cmd(args: &replay::ReplayArgs) -> Result<()> {
         }
     };
     eprint!("{}", summary.report(&name));
+    if let Some(path) = &args.alarms {
+        write_then_rename(path, |w| {
+            w.write_all(events.as_bytes())
+                .with_context(|| format!("cannot write {}", path.display()))
+        })?;
+        eprintln!("wrote {}", path.display());
+    }
     if let (Some(path), Some(fmt), Some(data)) = (&args.plot, plot_format, plot_data) {
         let bytes = plot::render(&data, fmt)?;
         write_then_rename(path, |w| {

@@ -2,16 +2,20 @@
 //! [`ToothRecord`] per tooth period out, exactly as the firmware runs it.
 //!
 //! # Design
-//! `rows -> Sample -> Monitor::process -> record -> per-record stage -> output`. The
-//! Monitor is `cfg.clone().build()`: the firmware's code path, on the host. Everything that
-//! happens once per record after the Monitor lives in [`PerRecord::record`]: counting,
-//! error statistics against the truth, and (marked there) the alarm state machine once
-//! `estimator_core::alarm` exists. Outputs (records CSV, `--bits` lines, plot data) hang
-//! off the callback, so the library API ([`replay`]) and the command share one loop.
+//! `rows -> Sample -> Pipeline::process (Monitor, then Alarms) -> record + alarm output ->
+//! per-record stage -> output`. The pipeline is `estimator_core::MachineConfig::build`: the
+//! firmware's code path, on the host. Everything that happens once per record after it
+//! lives in [`PerRecord::record`]: counting, error statistics against the truth, alarm
+//! events and their latency against the truth's flute damage. Outputs (records CSV,
+//! `--bits` lines, alarm events, plot data) hang off the callback, so the library API
+//! ([`replay`]) and the command share one loop.
 //!
 //! A record's time and truth are those of the trace row at its `end_sample`, the period's
 //! last sample: the row before the pulse that closed it (or, for a `no_sync` timeout, the
-//! row that timed it out).
+//! row that timed it out). The error statistics compare a valid estimate with the truth
+//! averaged over the teeth its filter window holds (`filter_revs x flutes`): that is what
+//! a filtered estimate measures (the last tooth's truth would charge the filter's lag
+//! during a ramp as an error of the estimator).
 //!
 //! Before the first sample, replay refuses what cannot work: a trace sampled at another
 //! rate than the config's (relative difference above [`RATE_TOL`]), a force trace with a
@@ -19,8 +23,9 @@
 //! one-axis trace for a two-axis drive, and a trace without velocity columns for a config
 //! that measures the feed velocity (it needs `feed_velocity = { nominal = [vx, vy] }`).
 //!
-//! The machine file (`--config`) is a TOML [`MonitorConfig`], laid over the defaults by
-//! [`crate::config::override_from`] (unknown keys are errors naming the key). Enum variants
+//! The machine file (`--config`) is a TOML [`MonitorConfig`] plus an optional `[alarms]`
+//! table ([`AlarmConfig`]), each laid over its defaults by [`crate::config::override_from`]
+//! (unknown keys are errors naming the key). Enum variants
 //! with fields are the one thing an overlay cannot merge into a different default: a
 //! `[input.motor.spindle.load]` table therefore starts from paper 003's FANUC model
 //! ([`SpindleModel::paper003`]) rather than from the default current model.
@@ -28,7 +33,8 @@
 use anyhow::{anyhow, bail, Result};
 use estimator_core::drive::SpindleModel;
 use estimator_core::monitor::{FeedVelocity, Input};
-use estimator_core::{MonitorConfig, MonitorState, Status, ToothRecord};
+use estimator_core::alarm::{AlarmConfig, AlarmEvent, AlarmOutput, Cause};
+use estimator_core::{MachineConfig, MonitorConfig, PipelineState, Status, ToothRecord};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::{BufRead, IsTerminal, Write};
 use std::path::{Path, PathBuf};
@@ -62,8 +68,25 @@ pub struct ReplayEvent<'a> {
     pub record: &'a ToothRecord,
     /// Truth of that row (NaN where the trace has none).
     pub truth: &'a Truth,
-    // Alarm hook: the record's `estimator_core::alarm::AlarmOutput` goes here
-    // (`pub alarm: &'a AlarmOutput`), for the alarm events output and the plot's lines.
+    /// What the alarms said after this record (`event` is set on the record that raised
+    /// one).
+    pub alarm: &'a AlarmOutput,
+}
+
+/// An alarm as replay reports it: the event, when, and how long after the truth's first
+/// flute damage (or tool loss) it came.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ReplayAlarm {
+    /// Index of the record that raised it.
+    pub index: u64,
+    /// Its time [s].
+    pub time_s: f64,
+    /// The event.
+    pub event: AlarmEvent,
+    /// Time since the truth first showed a damaged flute [s], if it did by then.
+    pub latency_s: Option<f64>,
+    /// Teeth since then (tooth periods at the alarm's speed).
+    pub latency_teeth: Option<f64>,
 }
 
 /// Distribution of the relative error of one estimate against the truth.
@@ -112,6 +135,12 @@ pub struct ReplaySummary {
     pub flags: [u64; FLAGS],
     /// Errors against the truth, when the trace has truth columns.
     pub errors: Option<TruthErrors>,
+    /// Alarm events raised (the wear warning included).
+    pub alarm_events: u64,
+    /// The first alarm that latched the output, if any.
+    pub first_alarm: Option<ReplayAlarm>,
+    /// When the truth first showed a damaged flute [s].
+    pub damage_s: Option<f64>,
 }
 
 impl ReplaySummary {
@@ -146,7 +175,7 @@ impl ReplaySummary {
                     s += &format!("  {what} vs truth: no valid record with a known truth\n");
                 } else {
                     s += &format!(
-                        "  {what} vs truth over {} valid records: relative error p50 {:.2} %, \
+                        "  {what} vs the window-mean truth over {} valid records: relative error p50 {:.2} %, \
                          p95 {:.2} %, max {:.2} %; truth within ±2 sigma in {:.1} %\n",
                         st.count,
                         st.p50 * 100.0,
@@ -156,6 +185,27 @@ impl ReplaySummary {
                     );
                 }
             }
+        }
+        match (&self.first_alarm, self.damage_s) {
+            (Some(a), _) => {
+                s.push_str(&format!(
+                    "alarm: {} at {:.4} s (record {}, tooth {})",
+                    a.event.cause.name(),
+                    a.time_s,
+                    a.index,
+                    a.event.record.tooth
+                ));
+                if let (Some(l), Some(t)) = (a.latency_s, a.latency_teeth) {
+                    s.push_str(&format!(
+                        ", {:.1} ms = {:.1} teeth after the first flute damage",
+                        1e3 * l,
+                        t
+                    ));
+                }
+                s.push('\n');
+            }
+            (None, Some(d)) => s.push_str(&format!("no alarm, but a flute was damaged at {d:.4} s\n")),
+            (None, None) => s.push_str("no alarm\n"),
         }
         s
     }
@@ -200,24 +250,32 @@ impl ErrorAcc {
 struct PerRecord {
     summary: ReplaySummary,
     truth: Option<(ErrorAcc, ErrorAcc)>,
-    // Alarm hook: `alarms: estimator_core::alarm::Alarms` (built by `AlarmConfig::build`
-    // from a section of the machine file) and `alarm_state: AlarmState` live here.
+    /// Truth `(d_r, d_a)` of the last `window` records: a filtered estimate is compared
+    /// with the mean engagement over the teeth it averaged, not with the last tooth's.
+    recent: std::collections::VecDeque<(f32, f32)>,
+    window: usize,
+    /// The truth's flute mask at the start (damage is a change from it).
+    intact_at_start: Option<u32>,
 }
 
 impl PerRecord {
-    fn new(sample_rate_hz: f64, has_truth: bool) -> Self {
+    fn new(sample_rate_hz: f64, has_truth: bool, window: usize) -> Self {
         PerRecord {
             summary: ReplaySummary {
                 sample_rate_hz,
                 ..ReplaySummary::default()
             },
             truth: has_truth.then(|| (ErrorAcc::default(), ErrorAcc::default())),
+            intact_at_start: None,
+            recent: std::collections::VecDeque::with_capacity(window),
+            window: window.max(1),
         }
     }
 
     fn record(
         &mut self,
         rec: &ToothRecord,
+        alarm: &AlarmOutput,
         time_s: f64,
         truth: &Truth,
         on_record: &mut impl FnMut(&ReplayEvent<'_>) -> Result<()>,
@@ -229,23 +287,50 @@ impl PerRecord {
         for (n, (flag, _)) in s.flags.iter_mut().zip(Status::NAMES) {
             *n += u64::from(rec.status.contains(flag));
         }
-        if let (Some((dr, da)), true) = (&mut self.truth, rec.status.is_valid()) {
-            dr.push(rec.dr_mm, rec.dr_sigma_mm, truth.dr_mm);
-            da.push(rec.da_mm, rec.da_sigma_mm, truth.da_mm);
+        // Only teeth the Monitor puts in its window count (cutting, valid periods); an
+        // air cut empties it, as it empties the Monitor's.
+        if rec.status.contains(Status::NOT_CUTTING) {
+            self.recent.clear();
+        } else if !rec.status.intersects(Status::PERIOD_INVALID | Status::INPUT_FAULT | Status::NON_FINITE) {
+            if self.recent.len() == self.window {
+                self.recent.pop_front();
+            }
+            self.recent.push_back((truth.dr_mm, truth.da_mm));
         }
-        // ---- Alarm hook -------------------------------------------------------------
-        // Here, and only here, the alarm state machine sees each record
-        // (`estimator_core::alarm`, landed while this was written; wiring it is its own
-        // issue):
-        //     let out = self.alarms.process(&mut self.alarm_state, rec); // AlarmOutput
-        // then count `out.event`s in the summary and pass `out` in the ReplayEvent below,
-        // from where `replay_to` writes alarm events and the plot gets its vertical lines.
-        // -------------------------------------------------------------------------------
+        if let (Some((dr, da)), true) = (&mut self.truth, rec.status.is_valid()) {
+            let n = self.recent.len().max(1) as f32;
+            let (t_dr, t_da) = self
+                .recent
+                .iter()
+                .fold((0.0, 0.0), |(a, b), (x, y)| (a + x, b + y));
+            dr.push(rec.dr_mm, rec.dr_sigma_mm, t_dr / n);
+            da.push(rec.da_mm, rec.da_sigma_mm, t_da / n);
+        }
+        // Flute damage in the truth: the first change of the intact mask.
+        let start = *self.intact_at_start.get_or_insert(truth.flutes_intact);
+        if s.damage_s.is_none() && truth.flutes_intact != start {
+            s.damage_s = Some(time_s);
+        }
+        if let Some(event) = alarm.event {
+            s.alarm_events += 1;
+            if s.first_alarm.is_none() && event.cause != Cause::Wear {
+                let latency_s = s.damage_s.map(|d| time_s - d);
+                let tooth_s = f64::from(rec.samples) / s.sample_rate_hz;
+                s.first_alarm = Some(ReplayAlarm {
+                    index,
+                    time_s,
+                    event,
+                    latency_s,
+                    latency_teeth: latency_s.map(|l| l / tooth_s),
+                });
+            }
+        }
         on_record(&ReplayEvent {
             index,
             time_s,
             record: rec,
             truth,
+            alarm,
         })
     }
 
@@ -304,7 +389,7 @@ pub fn replay<R: BufRead>(
     cfg: &MonitorConfig,
     mut on_record: impl FnMut(&ToothRecord, &Truth),
 ) -> Result<ReplaySummary> {
-    replay_source(reader, cfg, None, |e| {
+    replay_source(reader, cfg, &AlarmConfig::default(), None, |e| {
         on_record(e.record, e.truth);
         Ok(())
     })
@@ -315,6 +400,7 @@ pub fn replay<R: BufRead>(
 pub fn replay_source<S: RowSource + ?Sized>(
     src: &mut S,
     cfg: &MonitorConfig,
+    alarms: &AlarmConfig,
     progress: Option<&ProgressBar>,
     mut on_record: impl FnMut(&ReplayEvent<'_>) -> Result<()>,
 ) -> Result<ReplaySummary> {
@@ -327,20 +413,23 @@ pub fn replay_source<S: RowSource + ?Sized>(
             bail!("{name} is sampled at {rate} Hz but the config says sample_rate_hz = {cfg_rate}");
         }
     }
-    let monitor = cfg
-        .clone()
-        .build()
-        .map_err(|e| anyhow!("monitor configuration: {e}"))?;
-    let mut st = MonitorState::default();
-    let mut stage = PerRecord::new(cfg_rate, kind.has_truth);
+    let pipeline = MachineConfig {
+        monitor: cfg.clone(),
+        alarms: *alarms,
+    }
+    .build()
+    .map_err(|e| anyhow!("machine configuration: {e}"))?;
+    let mut st = PipelineState::default();
+    let window = usize::from(cfg.filter_revs) * usize::from(cfg.estimator.tool.flutes);
+    let mut stage = PerRecord::new(cfg_rate, kind.has_truth, window);
     let mut n: u64 = 0;
     let mut prev = TraceRow::default();
     while let Some(row) = src.next_row()? {
-        if let Some(rec) = monitor.process(&mut st, &row.to_sample()) {
+        if let Some((rec, alarm)) = pipeline.process(&mut st, &row.to_sample()) {
             // A pulse closes the period at the sample before it; a timeout at this one.
             let end = if rec.end_sample == n { &row } else { &prev };
             debug_assert!(rec.end_sample == n || rec.end_sample + 1 == n);
-            stage.record(&rec, end.time_s, &end.truth, &mut on_record)?;
+            stage.record(&rec, &alarm, end.time_s, &end.truth, &mut on_record)?;
         }
         prev = row;
         n += 1;
@@ -380,11 +469,32 @@ pub fn bits_line(idx: u64, words: &[u32]) -> String {
     s
 }
 
-/// What [`replay_to`] writes besides the records.
+/// What [`replay_to`] runs and writes besides the records.
 #[derive(Clone, Debug, Default)]
 pub struct ReplayOutputs {
     /// Collect the records for a plot.
     pub plot: bool,
+    /// The alarm detectors (the machine file's `[alarms]`).
+    pub alarms: AlarmConfig,
+    /// Collect the alarm events (for `--alarms FILE`).
+    pub events: bool,
+}
+
+/// The alarm-events CSV (`--alarms`): one row per event.
+pub const ALARM_COLUMNS: &str = "time_s,record,tooth,cause,value,threshold,latched";
+
+/// One row of the alarm-events CSV.
+pub fn alarm_row(e: &ReplayEvent<'_>, ev: &AlarmEvent) -> String {
+    format!(
+        "{},{},{},{},{},{},{}\n",
+        e.time_s,
+        e.index,
+        e.record.tooth,
+        ev.cause.name(),
+        ev.value,
+        ev.threshold,
+        u8::from(e.alarm.latched)
+    )
 }
 
 /// The `replay` command's loop: records to `out` in `format`, plot data if asked for.
@@ -395,7 +505,12 @@ pub fn replay_to<S: RowSource + ?Sized, W: Write>(
     format: RecordFormat,
     outputs: &ReplayOutputs,
     progress: Option<&ProgressBar>,
-) -> Result<(ReplaySummary, Option<PlotData>)> {
+) -> Result<(ReplaySummary, Option<PlotData>, String)> {
+    let mut events = String::new();
+    if outputs.events {
+        events.push_str(ALARM_COLUMNS);
+        events.push('\n');
+    }
     let has_truth = src.kind().has_truth;
     let mut plot = outputs.plot.then(|| PlotData {
         title: src.name().to_string(),
@@ -406,10 +521,8 @@ pub fn replay_to<S: RowSource + ?Sized, W: Write>(
     let summary = match format {
         RecordFormat::Csv => {
             let mut wr = RecordWriter::new(out, has_truth)?;
-            let s = replay_source(src, cfg, progress, |e| {
-                if let Some(p) = &mut plot {
-                    p.points.push(point(e));
-                }
+            let s = replay_source(src, cfg, &outputs.alarms, progress, |e| {
+                collect(&mut plot, &mut events, outputs.events, e);
                 wr.write(e.time_s, e.record, e.truth)
             })?;
             wr.finish()?;
@@ -417,10 +530,8 @@ pub fn replay_to<S: RowSource + ?Sized, W: Write>(
         }
         RecordFormat::Bits => {
             let mut out = out;
-            let s = replay_source(src, cfg, progress, |e| {
-                if let Some(p) = &mut plot {
-                    p.points.push(point(e));
-                }
+            let s = replay_source(src, cfg, &outputs.alarms, progress, |e| {
+                collect(&mut plot, &mut events, outputs.events, e);
                 out.write_all(bits_line(e.index, &e.record.to_words()).as_bytes())
                     .map_err(|err| anyhow!("writing the records: {err}"))
             })?;
@@ -429,7 +540,22 @@ pub fn replay_to<S: RowSource + ?Sized, W: Write>(
             s
         }
     };
-    Ok((summary, plot))
+    Ok((summary, plot, events))
+}
+
+/// Plot points, alarm lines and event rows of one record.
+fn collect(plot: &mut Option<PlotData>, events: &mut String, want: bool, e: &ReplayEvent<'_>) {
+    if let Some(p) = plot {
+        p.points.push(point(e));
+    }
+    if let Some(ev) = &e.alarm.event {
+        if let Some(p) = plot {
+            p.alarms.push(e.time_s);
+        }
+        if want {
+            events.push_str(&alarm_row(e, ev));
+        }
+    }
 }
 
 fn point(e: &ReplayEvent<'_>) -> PlotPoint {
@@ -465,6 +591,8 @@ pub fn progress_bar(total_bytes: Option<u64>) -> Option<ProgressBar> {
 pub struct LoadedConfig {
     /// The configuration: defaults, the file laid over them, the trace's sample rate.
     pub config: MonitorConfig,
+    /// The `[alarms]` table laid over the default detectors.
+    pub alarms: AlarmConfig,
     /// What names it in messages (the file, or "default configuration").
     pub what: String,
     patch: toml::Table,
@@ -527,7 +655,25 @@ pub fn parse_monitor_config(
     file: &str,
     trace_rate_hz: Option<f64>,
 ) -> Result<LoadedConfig> {
-    let patch: toml::Table = config::parse_toml(text, file)?;
+    let mut patch: toml::Table = config::parse_toml(text, file)?;
+    // `[alarms]` is the AlarmConfig half of the machine; the rest is the MonitorConfig.
+    let had_alarms = patch.contains_key("alarms");
+    let alarms = match patch.remove("alarms") {
+        None => AlarmConfig::default(),
+        Some(toml::Value::Table(t)) => {
+            let text = toml::to_string(&t).map_err(|e| anyhow!("{file}: [alarms]: {e}"))?;
+            config::override_from(&AlarmConfig::default(), &text, &format!("{file} [alarms]"))?
+        }
+        Some(_) => bail!("{file}: `alarms` must be a table ([alarms])"),
+    };
+    // Without `[alarms]` the file's own text is parsed, so TOML errors keep its lines.
+    let rest;
+    let text = if had_alarms {
+        rest = toml::to_string(&patch).map_err(|e| anyhow!("{file}: {e}"))?;
+        rest.as_str()
+    } else {
+        text
+    };
     let mut base = MonitorConfig::default();
     let wants_load = patch
         .get("input")
@@ -556,6 +702,7 @@ pub fn parse_monitor_config(
     }
     Ok(LoadedConfig {
         config: cfg,
+        alarms,
         what: file.to_string(),
         patch,
     })
@@ -715,7 +862,7 @@ fn bench_file(seconds: f64, repeat: u32, path: &Path) -> Result<BenchReport> {
         let start = Instant::now();
         let mut rd = TraceReader::open(path)?;
         records = 0;
-        summary = replay_source(&mut rd, &cfg, None, |e| {
+        summary = replay_source(&mut rd, &cfg, &AlarmConfig::default(), None, |e| {
             records += u64::from(e.record.status.is_valid());
             Ok(())
         })?;
@@ -733,7 +880,7 @@ fn bench_file(seconds: f64, repeat: u32, path: &Path) -> Result<BenchReport> {
     let mut monitor_s = f64::INFINITY;
     for _ in 0..repeat {
         let start = Instant::now();
-        let mut st = MonitorState::default();
+        let mut st = estimator_core::MonitorState::default();
         let mut count = 0u64;
         for s in &samples {
             if let Some(r) = monitor.process(&mut st, std::hint::black_box(s)) {
@@ -766,8 +913,9 @@ forces, optional velocities, spindle signal, optional true_* columns. Or, with -
 Kistler DynoWare export (Time, Fx, Fy, Fz): tooth pulses are then derived from --rpm and
 --flutes, the feed velocity is --feed-mm-min, and the input is a dynamometer.
 
-CONFIG: a TOML MonitorConfig laid over the defaults (every key optional, unknown keys are
-errors); example: host-sim/examples/machine.toml. Without sample_rate_hz the trace's rate is
+CONFIG: a TOML MonitorConfig laid over the defaults, with the alarm detectors in an optional
+[alarms] table (every key optional, unknown keys are errors); example:
+host-sim/examples/machine.toml. Without sample_rate_hz the trace's rate is
 used. A trace without velocity columns needs feed_velocity = { nominal = [vx, vy] }.
 
 OUTPUT: one row per tooth period (docs/formats.md, \"Per-tooth records CSV\"), or with --bits
@@ -798,6 +946,9 @@ pub struct ReplayArgs {
     /// Write each record as `idx` and its raw words in hex instead of CSV.
     #[arg(long)]
     pub bits: bool,
+    /// Alarm events CSV to write (time_s, record, tooth, cause, value, threshold, latched).
+    #[arg(long, value_name = "FILE")]
+    pub alarms: Option<PathBuf>,
     /// Options of a dynamometer recording.
     #[command(flatten)]
     pub kistler: KistlerArgs,
@@ -880,11 +1031,12 @@ pub fn open_replay(args: &ReplayArgs) -> Result<(Box<dyn RowSource>, LoadedConfi
     if let Some(o) = &kistler {
         loaded.apply_kistler(o)?;
     }
-    loaded
-        .config
-        .clone()
-        .build()
-        .map_err(|e| anyhow!("{}: {e}", loaded.what))?;
+    MachineConfig {
+        monitor: loaded.config.clone(),
+        alarms: loaded.alarms,
+    }
+    .build()
+    .map_err(|e| anyhow!("{}: {e}", loaded.what))?;
     check_compatible(&src.kind(), &loaded.config, src.name())
         .map_err(|e| anyhow!("{e} ({})", loaded.what))?;
     Ok((src, loaded))

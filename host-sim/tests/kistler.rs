@@ -276,7 +276,7 @@ fn real_recordings_replay_with_runout_and_steady_revolutions() {
         loaded.apply_kistler(&o).expect("kistler");
         assert_eq!(loaded.config.sample_rate_hz, 10_000.0);
         let mut recs = Vec::new();
-        let summary = replay::replay_source(&mut rd, &loaded.config, None, |e| {
+        let summary = replay::replay_source(&mut rd, &loaded.config, &loaded.alarms, None, |e| {
             recs.push(*e.record);
             Ok(())
         })

@@ -129,7 +129,7 @@ fn synthetic_cut_recovers_the_depths_within_2_percent() {
         .position(|(s, _)| *s == Status::SETTLING)
         .expect("flag");
     assert_eq!(summary.flags[settling], 79 - summary.valid);
-    assert!(summary.report("x").contains("d_r vs truth over"));
+    assert!(summary.report("x").contains("d_r vs the window-mean truth over"));
 }
 
 #[test]
@@ -259,7 +259,7 @@ fn records_csv_round_trips() {
     let trace = synthetic_trace(1.0, true);
     let cfg = config_for(&trace, "");
     let mut want: Vec<(f64, ToothRecord, Truth)> = Vec::new();
-    let (summary, _) = replay_to(
+    let (summary, _, _) = replay_to(
         &mut reader(&trace),
         &cfg,
         Vec::new(),
@@ -269,7 +269,7 @@ fn records_csv_round_trips() {
     )
     .expect("replays");
     let mut out = Vec::new();
-    replay::replay_source(&mut reader(&trace), &cfg, None, |e| {
+    replay::replay_source(&mut reader(&trace), &cfg, &Default::default(), None, |e| {
         want.push((e.time_s, *e.record, *e.truth));
         Ok(())
     })
@@ -329,7 +329,7 @@ fn bits_lines_are_target_checks_format() {
     let trace = synthetic_trace(0.5, true);
     let cfg = config_for(&trace, "");
     let mut out = Vec::new();
-    let (summary, _) = replay_to(
+    let (summary, _, _) = replay_to(
         &mut reader(&trace),
         &cfg,
         &mut out,
@@ -353,12 +353,12 @@ fn bits_lines_are_target_checks_format() {
 fn plot_renders_png_and_svg() {
     let trace = synthetic_trace(1.0, true);
     let cfg = config_for(&trace, "");
-    let (_, data) = replay_to(
+    let (_, data, _) = replay_to(
         &mut reader(&trace),
         &cfg,
         Vec::new(),
         RecordFormat::Csv,
-        &ReplayOutputs { plot: true },
+        &ReplayOutputs { plot: true, ..Default::default() },
         None,
     )
     .expect("replays");
@@ -410,7 +410,7 @@ fn command_line_writes_records_plot_and_bin() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{stderr}");
     assert!(
-        stderr.contains("tooth records") && stderr.contains("d_a vs truth"),
+        stderr.contains("tooth records") && stderr.contains("d_a vs the window-mean truth"),
         "{stderr}"
     );
     for f in ["records.csv", "plot.png"] {

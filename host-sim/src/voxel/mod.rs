@@ -337,6 +337,22 @@ pub fn run(args: &VoxelArgs) -> Result<()> {
             rapid_mm_min: args.rapid_mm_min,
         },
     )?;
+    // Feed moves with the spindle stopped cut nothing (the model needs the rotation):
+    // usually a missing S word, so say so rather than write a trace of zeros.
+    let idle: Vec<_> = path
+        .segments
+        .iter()
+        .filter(|s| s.feed && s.rpm <= 0.0)
+        .collect();
+    if let Some(first) = idle.first() {
+        eprintln!(
+            "warning: {}: {:.1} s of feed moves with the spindle stopped (from line {}: no S \
+             word yet, or after M5); nothing is cut during them",
+            args.toolpath.display(),
+            idle.iter().map(|s| s.dur).sum::<f64>(),
+            first.line
+        );
+    }
     let stock = Stock::block(lo, hi, args.voxel_mm)?;
     let [nx, ny, nz] = stock.dims();
     let mem_mb = stock.memory_bytes() as f64 / 1048576.0;

@@ -58,9 +58,10 @@ use std::f64::consts::{FRAC_PI_2, PI, TAU};
 /// (ploughing) forces.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum EdgeRule {
-    /// The angular span of the removed voxel columns in the element's wedge, corrected for
-    /// sampling (`span (n + 1)/(n - 1)` for `n` columns, the unbiased range of `n`
-    /// uniform points), capped at the wedge. Converges to the exact contact as `m -> 0`.
+    /// The angular span of the removed voxel columns in the element's wedge, extended at
+    /// each end by the expected gap to an unsampled column (up to the angle where the
+    /// kinematic chip thickness is zero); see `edge_contact`. Converges to the exact
+    /// contact as `m -> 0` (docs/voxel.md, convergence table).
     #[default]
     Span,
     /// Paper 004: the whole step whenever the element removed anything. Overstates the

@@ -76,7 +76,7 @@ fn host_sim_replay(csv: &Path) -> Vec<String> {
         .expect("default config")
         .config;
     let mut out = Vec::new();
-    let (summary, _) = replay_to(
+    let (summary, _, _) = replay_to(
         &mut reader,
         &cfg,
         &mut out,
