@@ -12,25 +12,20 @@ fn scratch(name: &str) -> PathBuf {
     d
 }
 
-fn args(toolpath: &Path, output: Option<PathBuf>, heightmap: Option<PathBuf>) -> VoxelArgs {
+fn args(toolpath: &Path, steps_csv: Option<PathBuf>, heightmap: Option<PathBuf>) -> VoxelArgs {
     VoxelArgs {
         stock: "0,-8,-3,16,-2.5,0".into(),
         voxel_mm: 0.15,
         tool: "radius=5,flutes=3,helix=30,length=10".into(),
-        material: "al6061".into(),
         toolpath: toolpath.to_path_buf(),
-        output,
-        steps_per_rev: 24,
-        disk_mm: 0.6,
-        rapid_mm_min: 10000.0,
+        steps_csv,
         start: Some("-6,0,-2".into()),
         heightmap,
-        edge_rule: "span".into(),
-        bench: false,
+        ..VoxelArgs::default()
     }
 }
 
-/// Rows of a trace CSV as numbers (header checked).
+/// Rows of a step CSV as numbers (header checked).
 fn read_trace(p: &Path) -> Vec<Vec<f64>> {
     let text = std::fs::read_to_string(p).expect("trace");
     let mut lines = text.lines();
@@ -66,7 +61,7 @@ fn gcode_and_timed_csv_give_the_same_trace() {
     assert_eq!(a.len(), b.len());
     assert_eq!(a.len(), 2880, "1.2 s at 6000 rpm, 24 steps/rev");
     let mean = |t: &[Vec<f64>], col: usize| t.iter().map(|r| r[col]).sum::<f64>() / t.len() as f64;
-    for col in [8, 9, 10, 11, 14] {
+    for col in [9, 10, 11, 12, 15] {
         let (x, y) = (mean(&a, col), mean(&b, col));
         assert!(
             (x - y).abs() <= 1e-3 * x.abs().max(1.0),
@@ -74,7 +69,7 @@ fn gcode_and_timed_csv_give_the_same_trace() {
         );
     }
     // Cutting happened: down milling (material on -Y of a +X cut) pushes the tool to +X.
-    assert!(mean(&a, 8) > 1.0 && mean(&a, 11) > 0.01);
+    assert!(mean(&a, 9) > 1.0 && mean(&a, 12) > 0.01);
     let png_bytes = std::fs::read(&png).expect("png");
     assert_eq!(&png_bytes[1..4], b"PNG");
     std::fs::remove_dir_all(&d).ok();

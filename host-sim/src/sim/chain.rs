@@ -4,7 +4,17 @@
 //! Each piece is a small state machine stepped once per sample; none allocates after
 //! construction. Randomness comes from seeded [`Rng`] streams, one per purpose, so that
 //! turning one effect on does not change the draws of another.
+//!
+//! [`Board`] puts the pieces together behind the drive models: feed-frame forces, feed
+//! velocity and spindle speed in, the board's feed and spindle channels out. Both
+//! simulators use it (the analytic one, [`super::simulate`], and the voxel one,
+//! [`crate::voxel::trace`]), so their traces go through the same models and replay the
+//! same way. [`sync_gen`] makes the matching encoder.
 
+use super::scenario::SignalChain;
+use estimator_core::drive::SpindleModel;
+use estimator_core::monitor::Input;
+use estimator_core::tooth::SyncMode;
 use std::collections::VecDeque;
 use std::f64::consts::TAU;
 
@@ -272,6 +282,211 @@ impl SyncGen {
         }
         fire
     }
+}
+
+/// What the board's drives see at one sample: the cutting forces in the feed frame, the
+/// feed's direction, velocity and acceleration, the spindle's speed and acceleration.
+///
+/// Forces are on the **work** ([`estimator_core::geometry`]'s convention): `fx_n` is `F_ax`
+/// along the feed, positive when it resists the feed; `fy_n` is `F_ay` along the feed
+/// direction turned +90 deg (left of the path); `ft_n` is `F_at`, the spindle torque over
+/// the tool radius.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct BoardInput {
+    /// `F_ax` [N].
+    pub fx_n: f64,
+    /// `F_ay` [N].
+    pub fy_n: f64,
+    /// `F_at` [N].
+    pub ft_n: f64,
+    /// Unit feed direction in machine axes X, Y (`[cos, sin]` of the feed angle). The
+    /// loads are resolved on it even while the feed stands.
+    pub dir: [f64; 2],
+    /// Feed velocity X, Y [mm/min] (what the drives' friction models and the
+    /// one-axis/two-axis inverses see).
+    pub velocity_mm_min: [f64; 2],
+    /// Feed acceleration along `dir` [m/s^2]: `m a` joins the feed load (motor input).
+    pub accel_m_s2: f64,
+    /// Spindle speed [rpm].
+    pub rpm: f64,
+    /// Spindle angular acceleration [rad/s^2]: `J alpha / R` joins the tangential force
+    /// (motor input).
+    pub alpha_rad_s2: f64,
+}
+
+/// The monitor board behind the machine's drives: per sample, feed-frame forces to motor
+/// currents (or a dynamometer's forces) and the spindle signal, then lag, noise, ADC
+/// quantisation and clipping or the CNC's spindle-load meter.
+///
+/// The currents come from the core's own inverses
+/// ([`FeedDrive::currents_for_loads_a`](estimator_core::drive::FeedDrive::currents_for_loads_a),
+/// [`SpindleModel::signal_for_force`]), so a replay through the forward models inverts
+/// exactly what was simulated. The axis loads are the feed force along `dir` and the
+/// normal force along `dir` turned +90 deg, `[fa ux - fy uy, fa uy + fy ux]` with
+/// `fa = F_ax + m a`; a one-axis drive takes the X load only. A dynamometer reads
+/// `F_ax`, `F_ay` themselves (no inertia) and has no spindle channel.
+#[derive(Clone, Debug)]
+pub struct Board {
+    input: Input,
+    radius_mm: f64,
+    moving_mass_kg: f64,
+    spindle_inertia_kg_m2: f64,
+    lag: [Lag; 3],
+    rng: [Rng; 3],
+    noise: [f64; 3],
+    load_model: bool,
+    adc: [Adc; 3],
+    meter: LoadMeter,
+    clipped: [u64; 3],
+}
+
+/// Whether the spindle channel is the CNC's load % (paper 003).
+fn is_load_model(input: &Input) -> bool {
+    matches!(
+        input,
+        Input::Motor {
+            spindle: SpindleModel::Load { .. },
+            ..
+        }
+    )
+}
+
+/// The ADCs of feed X, feed Y and spindle (the load % is digital, a dynamometer has no
+/// spindle channel: no ADC).
+pub fn board_adcs(input: &Input, signal: &SignalChain) -> [Adc; 3] {
+    let feed = Adc::new(signal.adc_bits, signal.feed_full_scale);
+    let spindle = if is_load_model(input) || matches!(input, Input::Dynamometer) {
+        Adc::new(None, None)
+    } else {
+        Adc::new(signal.adc_bits, signal.spindle_full_scale)
+    };
+    [feed, feed, spindle]
+}
+
+impl Board {
+    /// The board for `input` (the drive and spindle models) and `signal` (its chain), at
+    /// `sample_rate_hz`, for a tool of radius `radius_mm`; noise streams 1 to 3 of `seed`.
+    /// The arguments are taken as valid (`Scenario::validate` checks them).
+    pub fn new(
+        input: &Input,
+        signal: &SignalChain,
+        sample_rate_hz: f64,
+        radius_mm: f64,
+        seed: u64,
+    ) -> Board {
+        let dt = 1.0 / sample_rate_hz;
+        Board {
+            input: input.clone(),
+            radius_mm,
+            moving_mass_kg: signal.moving_mass_kg,
+            spindle_inertia_kg_m2: signal.spindle_inertia_kg_m2,
+            lag: [
+                Lag::new(signal.feed_lag_s, dt),
+                Lag::new(signal.feed_lag_s, dt),
+                Lag::new(signal.spindle_lag_s, dt),
+            ],
+            rng: [1, 2, 3].map(|s| Rng::new(seed, s)),
+            noise: [signal.feed_noise, signal.feed_noise, signal.spindle_noise],
+            load_model: is_load_model(input),
+            adc: board_adcs(input, signal),
+            meter: LoadMeter::new(
+                sample_rate_hz,
+                signal.load_update_hz,
+                signal.load_resolution_pct,
+            ),
+            clipped: [0; 3],
+        }
+    }
+
+    /// Sample `i` (counting from 0, one call per sample in order): the feed channels
+    /// (currents [A], or `F_ax`, `F_ay` [N] for a dynamometer; the second 0 for a one-axis
+    /// drive) and the spindle channel (current [A] or load [%]; 0 for a dynamometer).
+    pub fn sample(&mut self, i: u64, s: &BoardInput) -> ([f32; 2], f32) {
+        let [ux, uy] = s.dir;
+        let r_mm = self.radius_mm;
+        let (raw, spindle_raw) = match &self.input {
+            Input::Motor {
+                feed: drive,
+                spindle,
+            } => {
+                let f_inertia = self.moving_mass_kg * s.accel_m_s2;
+                let ft_inertia = self.spindle_inertia_kg_m2 * s.alpha_rad_s2 / (r_mm * 1e-3);
+                // Load the drive supplies on each axis: the feed force along the feed
+                // velocity, the normal force along it turned +90 deg.
+                let fa = s.fx_n + f_inertia;
+                let loads = [fa * ux - s.fy_n * uy, fa * uy + s.fy_n * ux];
+                let i_axes = drive.currents_for_loads_a(
+                    loads.map(|x| x as f32),
+                    s.velocity_mm_min.map(|x| x as f32),
+                );
+                let second = if drive.two_axis {
+                    i_axes[1] as f64
+                } else {
+                    0.0
+                };
+                let sig = spindle.signal_for_force(
+                    (s.ft_n + ft_inertia) as f32,
+                    s.rpm as f32,
+                    r_mm as f32,
+                );
+                ([i_axes[0] as f64, second], sig as f64)
+            }
+            // No spindle column: rows carry 0, as the trace reader fills them.
+            Input::Dynamometer => ([s.fx_n, s.fy_n], f64::NAN),
+        };
+        let mut chan = [raw[0], raw[1], spindle_raw];
+        for (k, x) in chan.iter_mut().enumerate() {
+            if x.is_nan() {
+                continue;
+            }
+            let mut y = self.lag[k].step(*x);
+            if self.noise[k] > 0.0 {
+                y += self.noise[k] * self.rng[k].gauss();
+            }
+            if k == 2 && self.load_model {
+                y = self.meter.step(i, y);
+            } else {
+                let (q, clipped) = self.adc[k].read(y);
+                y = q;
+                self.clipped[k] += clipped as u64;
+            }
+            *x = y;
+        }
+        let spindle = if chan[2].is_nan() {
+            0.0
+        } else {
+            chan[2] as f32
+        };
+        ([chan[0] as f32, chan[1] as f32], spindle)
+    }
+
+    /// Samples at an ADC rail so far: feed X, feed Y, spindle.
+    pub fn clipped(&self) -> [u64; 3] {
+        self.clipped
+    }
+
+    /// Levels to give the monitor as `clip` (feed X, feed Y, spindle): the ADC rails,
+    /// infinite for a channel that cannot clip.
+    pub fn clip_levels(&self) -> [f64; 3] {
+        self.adc.map(|a| a.clip_level())
+    }
+}
+
+/// The encoder of a tool with `flutes` flutes: pulses per tooth or per revolution at the
+/// chain's phase, with its jitter and dropouts (streams 101 and 102 of `seed`). Step it
+/// with flute 0's rotation angle.
+pub fn sync_gen(sync: SyncMode, flutes: u8, signal: &SignalChain, seed: u64) -> SyncGen {
+    let spacing = match sync {
+        SyncMode::PerTooth => TAU / f64::from(flutes),
+        SyncMode::PerRevolution => TAU,
+    };
+    SyncGen::new(
+        spacing,
+        signal.sync_phase_deg.to_radians(),
+        signal.sync_jitter_samples,
+        signal.sync_dropout,
+        seed,
+    )
 }
 
 #[cfg(test)]

@@ -13,14 +13,15 @@
 //!    path position are integrated (trapezoid: exact for linear ramps);
 //! 2. [`cutter::Cutter`] integrates the instantaneous elemental forces (eq. 1-3) over
 //!    every flute's helix, with per-flute chip loads from runout and damage;
-//! 3. the feed-frame forces become axis loads (the feed force along the feed velocity,
-//!    the normal force on the feed direction turned +90 deg, plus `m a` while the feed
-//!    ramps) and motor currents through the core's own inverses
+//! 3. [`chain::Board`]: the feed-frame forces become axis loads (the feed force along the
+//!    feed velocity, the normal force on the feed direction turned +90 deg, plus `m a`
+//!    while the feed ramps) and motor currents through the core's own inverses
 //!    ([`FeedDrive::currents_for_loads_a`], [`SpindleModel::signal_for_force`]), so a
 //!    replay through `FeedDrive::feed_force_n` / `SpindleModel::tangential_force_n`
 //!    inverts exactly what was simulated; a dynamometer gives the forces themselves;
 //! 4. [`chain`]: first-order lag, Gaussian noise, ADC quantisation and clipping (or the
-//!    CNC's integer spindle load at a low rate), encoder pulses with jitter and dropouts;
+//!    CNC's integer spindle load at a low rate) in the board, encoder pulses with jitter
+//!    and dropouts ([`chain::sync_gen`]);
 //! 5. the row carries the ground truth in its `true_*` fields.
 //!
 //! Tooth averages of a steady cut equal eq. 7 (tests/simulate.rs): each point of the
@@ -42,11 +43,10 @@ pub use scenario::{
 
 use crate::trace::{FeedSignal, SpindleSignal, TraceKind, TraceRow, TraceWriter, Truth};
 use anyhow::Result;
-use chain::{Adc, Lag, LoadMeter, Rng, SyncGen};
+use chain::{Board, BoardInput};
 use cutter::{Cut, Cutter};
 use estimator_core::drive::SpindleModel;
 use estimator_core::monitor::Input;
-use estimator_core::tooth::SyncMode;
 use std::f64::consts::TAU;
 use std::io::Write;
 
@@ -80,32 +80,10 @@ struct Damage {
     chip_fraction: f64,
 }
 
-fn is_load_model(sc: &Scenario) -> bool {
-    matches!(
-        sc.input,
-        Input::Motor {
-            spindle: SpindleModel::Load { .. },
-            ..
-        }
-    )
-}
-
-/// The ADCs of feed X, feed Y and spindle (the load % is digital: no ADC).
-fn adcs(sc: &Scenario) -> [Adc; 3] {
-    let sig = &sc.signal;
-    let feed = Adc::new(sig.adc_bits, sig.feed_full_scale);
-    let spindle = if is_load_model(sc) || matches!(sc.input, Input::Dynamometer) {
-        Adc::new(None, None)
-    } else {
-        Adc::new(sig.adc_bits, sig.spindle_full_scale)
-    };
-    [feed, feed, spindle]
-}
-
 /// Levels to configure as the monitor's `clip` (feed X, feed Y, spindle) for a trace of
 /// this scenario: the ADC rails, infinite for a channel that cannot clip.
 pub fn clip_levels(sc: &Scenario) -> [f64; 3] {
-    adcs(sc).map(|a| a.clip_level())
+    chain::board_adcs(&sc.input, &sc.signal).map(|a| a.clip_level())
 }
 
 /// Runs the scenario, handing every row to `out` in time order; stops at the first error
@@ -132,27 +110,8 @@ pub fn simulate(sc: &Scenario, mut out: impl FnMut(&TraceRow) -> Result<()>) -> 
     let mut missing = [0.0f64; MAX_FLUTES];
 
     let sig = &sc.signal;
-    let mut lag = [
-        Lag::new(sig.feed_lag_s, dt),
-        Lag::new(sig.feed_lag_s, dt),
-        Lag::new(sig.spindle_lag_s, dt),
-    ];
-    let mut rng = [1, 2, 3].map(|s| Rng::new(sc.seed, s));
-    let noise = [sig.feed_noise, sig.feed_noise, sig.spindle_noise];
-    let load_model = is_load_model(sc);
-    let adc = adcs(sc);
-    let mut meter = LoadMeter::new(fs, sig.load_update_hz, sig.load_resolution_pct);
-    let spacing = match sc.sync {
-        SyncMode::PerTooth => TAU / n as f64,
-        SyncMode::PerRevolution => TAU,
-    };
-    let mut sync = SyncGen::new(
-        spacing,
-        sig.sync_phase_deg.to_radians(),
-        sig.sync_jitter_samples,
-        sig.sync_dropout,
-        sc.seed,
-    );
+    let mut board = Board::new(&sc.input, sig, fs, r_mm, sc.seed);
+    let mut sync = chain::sync_gen(sc.sync, sc.tool.flutes, sig, sc.seed);
 
     let mut summary = SimSummary {
         rows,
@@ -216,54 +175,22 @@ pub fn simulate(sc: &Scenario, mut out: impl FnMut(&TraceRow) -> Result<()>) -> 
         summary.peak_ft_n = summary.peak_ft_n.max(f.ft.abs());
         summary.peak_fx_n = summary.peak_fx_n.max(f.fx.abs());
 
-        // Machine: feed direction, velocities, inertia.
+        // Machine: feed direction, velocities, inertia; then the board.
         let (uy, ux) = g.angle_rad.sin_cos();
         let v = [feed * ux, feed * uy];
-        let accel_m_s2 = (g.feed.1 - g.feed.0) / len / 60_000.0;
-        let f_inertia = sig.moving_mass_kg * accel_m_s2;
-        let alpha_rad_s2 = (g.rpm.1 - g.rpm.0) / len * TAU / 60.0;
-        let ft_inertia = sig.spindle_inertia_kg_m2 * alpha_rad_s2 / (r_mm * 1e-3);
-        let (raw, spindle_raw) = match &sc.input {
-            Input::Motor {
-                feed: drive,
-                spindle,
-            } => {
-                // Load the drive supplies on each axis: the feed force along the feed
-                // velocity, the normal force along it turned +90 deg.
-                let fa = f.fx + f_inertia;
-                let loads = [fa * ux - f.fy * uy, fa * uy + f.fy * ux];
-                let i_axes =
-                    drive.currents_for_loads_a(loads.map(|x| x as f32), v.map(|x| x as f32));
-                let second = if drive.two_axis {
-                    i_axes[1] as f64
-                } else {
-                    0.0
-                };
-                let s =
-                    spindle.signal_for_force((f.ft + ft_inertia) as f32, rpm as f32, r_mm as f32);
-                ([i_axes[0] as f64, second], s as f64)
-            }
-            // No spindle column: rows carry 0, as the trace reader fills them.
-            Input::Dynamometer => ([f.fx, f.fy], f64::NAN),
-        };
-        let mut chan = [raw[0], raw[1], spindle_raw];
-        for (k, x) in chan.iter_mut().enumerate() {
-            if x.is_nan() {
-                continue;
-            }
-            let mut y = lag[k].step(*x);
-            if noise[k] > 0.0 {
-                y += noise[k] * rng[k].gauss();
-            }
-            if k == 2 && load_model {
-                y = meter.step(i, y);
-            } else {
-                let (q, clipped) = adc[k].read(y);
-                y = q;
-                summary.clipped[k] += clipped as u64;
-            }
-            *x = y;
-        }
+        let (feed_out, spindle_out) = board.sample(
+            i,
+            &BoardInput {
+                fx_n: f.fx,
+                fy_n: f.fy,
+                ft_n: f.ft,
+                dir: [ux, uy],
+                velocity_mm_min: v,
+                accel_m_s2: (g.feed.1 - g.feed.0) / len / 60_000.0,
+                rpm,
+                alpha_rad_s2: (g.rpm.1 - g.rpm.0) / len * TAU / 60.0,
+            },
+        );
         let pulse = sync.step(i, theta);
 
         let truth = if sc.output.truth {
@@ -285,21 +212,18 @@ pub fn simulate(sc: &Scenario, mut out: impl FnMut(&TraceRow) -> Result<()>) -> 
         let row = TraceRow {
             time_s: t,
             sync: pulse,
-            feed: [chan[0] as f32, chan[1] as f32],
+            feed: feed_out,
             feed_velocity_mm_min: if sc.output.velocity {
                 v.map(|x| x as f32)
             } else {
                 [f32::NAN; 2]
             },
-            spindle: if chan[2].is_nan() {
-                0.0
-            } else {
-                chan[2] as f32
-            },
+            spindle: spindle_out,
             truth,
         };
         out(&row)?;
     }
+    summary.clipped = board.clipped();
     summary.sync_pulses = sync.emitted;
     summary.sync_dropped = sync.dropped;
     Ok(summary)

@@ -8,7 +8,9 @@
 //! G-code or a CSV of timed positions ([`toolpath`]), and every `1/24` revolution each
 //! element removes the voxels its edge swept and turns their count into a chip thickness
 //! and a force ([`sim`]). The run is streamed: [`sim::run_path`] hands each step's
-//! [`VoxelSample`] to a callback and keeps nothing.
+//! [`VoxelSample`] to a callback and keeps nothing. [`trace`] resamples the steps to the
+//! board's ADC rate and puts them through the analytic simulator's board model
+//! ([`crate::sim::chain::Board`]): the same raw trace as `simulate`, for `replay`.
 //!
 //! # Frames and signs
 //! - Machine axes X, Y, Z of the table (right-handed, Z up along the tool axis, away from
@@ -38,15 +40,18 @@
 //!   `estimator_core::average_forces_linear`.
 //!
 //! # CLI
-//! `host-sim voxel --stock x0,y0,z0,x1,y1,z1 --toolpath path.nc [--output trace.csv]`;
-//! see [`VoxelArgs`] and `host-sim voxel --help`.
+//! `host-sim voxel --stock x0,y0,z0,x1,y1,z1 --toolpath path.nc [--output trace.csv]
+//! [--board board.toml] [--steps-csv steps.csv]`; see [`VoxelArgs`] and
+//! `host-sim voxel --help`.
 
 pub mod cutter;
 pub mod heightmap;
 pub mod sim;
 pub mod stock;
 pub mod toolpath;
+pub mod trace;
 
+use crate::trace::TraceWriter;
 use anyhow::{anyhow, bail, Context, Result};
 use cutter::Cutter;
 use serde::Serialize;
@@ -57,6 +62,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 use stock::Stock;
 use toolpath::{GcodeOptions, Toolpath};
+use trace::{BoardSpec, TraceSampler};
 
 /// One simulation step (1/`steps_per_rev` of a revolution): the tool's state, the forces,
 /// and the engagement measured from the voxels. Signs: see the module doc.
@@ -76,6 +82,9 @@ pub struct VoxelSample {
     pub feed_vy_mm_min: f64,
     /// Spindle speed [rpm].
     pub spindle_rpm: f64,
+    /// Spindle rotation since the start at the end of the step [rad] (unwrapped,
+    /// increasing): flute `j`'s tip is at machine angle `-angle - j 2pi/N`.
+    pub spindle_angle_rad: f64,
     /// True on the step in which a flute passes the reference angle: once per tooth period.
     pub tooth_sync: bool,
     /// Force on the tool along machine X [N], averaged over the step.
@@ -97,9 +106,9 @@ pub struct VoxelSample {
     pub flutes_intact: u8,
 }
 
-/// The CSV header of `--output`: the field names of [`VoxelSample`], in order.
+/// The CSV header of `--steps-csv`: the field names of [`VoxelSample`], in order.
 pub const CSV_HEADER: &str = "time_s,x_mm,y_mm,z_mm,feed_vx_mm_min,feed_vy_mm_min,spindle_rpm,\
-tooth_sync,fx_n,fy_n,fz_n,torque_nm,true_dr_mm,true_da_mm,mrr_mm3_s,flutes_intact";
+spindle_angle_rad,tooth_sync,fx_n,fy_n,fz_n,torque_nm,true_dr_mm,true_da_mm,mrr_mm3_s,flutes_intact";
 
 impl VoxelSample {
     /// Writes the sample as one CSV line (`tooth_sync` as 1/0).
@@ -115,6 +124,7 @@ impl VoxelSample {
             (self.feed_vx_mm_min, 2),
             (self.feed_vy_mm_min, 2),
             (self.spindle_rpm, 1),
+            (self.spindle_angle_rad, 6),
         ] {
             push_fixed(&mut b, v, decimals);
             b.push(b',');
@@ -196,10 +206,23 @@ TOOLPATH: G-code in mm (G0 G1 G2 G3 with I/J or R, G4 P<s>, G90/G91, F mm/min, S
 M3/M5), or a CSV (name ending .csv) of timed tool-tip positions as a CNC streams them:
   time_s,x_mm,y_mm,z_mm,spindle_rpm      (linearly interpolated between rows)
 
-OUTPUT (--output, CSV, one row per step):
+TRACE (--output): the raw trace of `host-sim simulate` (docs/formats.md), for `replay`: the
+steps resampled to --sample-rate-hz (each sample holds the force of the step it falls in)
+and put through the board of --board (a TOML with optional `input`, `signal`, `sync` and
+`seed`, shaped as in a simulate scenario, host-sim/examples/cut.toml; default: the
+monitor's default one-axis motor input, ideal signal chain, a sync pulse per tooth):
+  time_s, sync, feed_x_a [feed_y_a] | fx_n fy_n, feed_vx_mm_min [feed_vy_mm_min],
+  spindle_a | spindle_load_pct, true_dr_mm, true_da_mm (from the voxels), true_tc_mm,
+  true_rpm, true_flutes_intact, true_fx_n, true_fy_n, true_ft_n (F_ax, F_ay, F_at: feed
+  frame, force ON THE WORK, F_ax > 0 resisting the feed, as method.md eq. 7)
+Replay it with a config of the same input, tool and sample rate.
+
+STEPS (--steps-csv, CSV, one row per simulation step):
   time_s, x_mm, y_mm, z_mm          tool tip at the end of the step
   feed_vx_mm_min, feed_vy_mm_min    feed velocity
   spindle_rpm
+  spindle_angle_rad                 spindle rotation since the start (flute 0's tip at
+                                    machine angle -spindle_angle_rad)
   tooth_sync                        1 on the step a flute passes the reference angle
   fx_n, fy_n, fz_n                  force ON THE TOOL in machine axes [N]
   torque_nm                         spindle load torque [N m]
@@ -247,9 +270,21 @@ pub struct VoxelArgs {
     /// Toolpath: G-code (mm), or CSV of timed positions if the name ends in `.csv`.
     #[arg(long, value_name = "FILE")]
     pub toolpath: PathBuf,
-    /// Write one CSV row per step here (`-`: standard output).
+    /// Write the raw trace here (`-`: standard output): the format of `simulate`, through
+    /// the board of `--board`, for `replay`.
     #[arg(long, value_name = "FILE")]
     pub output: Option<PathBuf>,
+    /// ADC sample rate of the trace [Hz].
+    #[arg(long, default_value_t = 20000.0, value_name = "HZ")]
+    pub sample_rate_hz: f64,
+    /// The board (TOML: optional `input`, `signal`, `sync`, `seed` tables/keys of a simulate
+    /// scenario); default: the monitor's default input, an ideal signal chain.
+    #[arg(long, value_name = "FILE")]
+    pub board: Option<PathBuf>,
+    /// Write one CSV row per simulation step here (`-`: standard output): forces on the
+    /// tool in machine axes, the measured engagement, the material removal rate.
+    #[arg(long, value_name = "FILE")]
+    pub steps_csv: Option<PathBuf>,
     /// Time steps per spindle revolution (paper: 24).
     #[arg(long, default_value_t = 24, value_name = "N")]
     pub steps_per_rev: u32,
@@ -312,13 +347,101 @@ pub fn parse_edge_rule(text: &str) -> Result<EdgeRule> {
     }
 }
 
+impl Default for VoxelArgs {
+    /// The command's defaults, with no stock (`""`) and no toolpath: set those.
+    fn default() -> Self {
+        VoxelArgs {
+            stock: String::new(),
+            voxel_mm: 0.09,
+            tool: "radius=5,flutes=3,helix=30,length=20".into(),
+            material: "al6061".into(),
+            toolpath: PathBuf::new(),
+            output: None,
+            sample_rate_hz: 20000.0,
+            board: None,
+            steps_csv: None,
+            steps_per_rev: 24,
+            disk_mm: 0.6,
+            rapid_mm_min: 10000.0,
+            start: None,
+            heightmap: None,
+            edge_rule: "span".into(),
+            bench: false,
+        }
+    }
+}
+
+/// An output file written beside its name and renamed into place only by
+/// [`Output::commit`], so a failed run never leaves a truncated file that looks complete;
+/// `-` is standard output.
+struct Output {
+    w: BufWriter<Box<dyn Write>>,
+    name: String,
+    /// `(temporary, final)` paths of a file not yet committed.
+    rename: Option<(PathBuf, PathBuf)>,
+}
+
+impl Output {
+    fn create(path: &Path) -> Result<Output> {
+        if path == Path::new("-") {
+            return Ok(Output {
+                w: BufWriter::with_capacity(1 << 16, Box::new(std::io::stdout())),
+                name: "standard output".into(),
+                rename: None,
+            });
+        }
+        let mut tmp_name = path.as_os_str().to_owned();
+        tmp_name.push(".partial");
+        let tmp = PathBuf::from(tmp_name);
+        let f = File::create(&tmp).with_context(|| format!("cannot create {}", tmp.display()))?;
+        Ok(Output {
+            w: BufWriter::with_capacity(1 << 16, Box::new(f)),
+            name: path.display().to_string(),
+            rename: Some((tmp, path.to_path_buf())),
+        })
+    }
+
+    fn commit(mut self) -> Result<()> {
+        self.w
+            .flush()
+            .with_context(|| format!("cannot write {}", self.name))?;
+        if let Some((tmp, path)) = self.rename.take() {
+            std::fs::rename(&tmp, &path).with_context(|| {
+                format!("cannot rename {} to {}", tmp.display(), path.display())
+            })?;
+        }
+        Ok(())
+    }
+}
+
+impl Write for Output {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        self.w.write(buf)
+    }
+    fn write_all(&mut self, buf: &[u8]) -> std::io::Result<()> {
+        self.w.write_all(buf)
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.w.flush()
+    }
+}
+
+impl Drop for Output {
+    fn drop(&mut self) {
+        if let Some((tmp, _)) = &self.rename {
+            // Best effort: the error being reported matters more than a leftover file.
+            let _ = std::fs::remove_file(tmp);
+        }
+    }
+}
+
 /// Runs `host-sim voxel`.
 pub fn run(args: &VoxelArgs) -> Result<()> {
     let (lo, hi) = parse_stock(&args.stock)?;
     let cutter = Cutter::parse(&args.tool)?;
     let coeffs = cutter::parse_material(&args.material)?;
     let cfg = SimConfig {
-        cutter,
+        cutter: cutter.clone(),
         coeffs,
         steps_per_rev: args.steps_per_rev,
         disk_mm: args.disk_mm,
@@ -337,6 +460,25 @@ pub fn run(args: &VoxelArgs) -> Result<()> {
             rapid_mm_min: args.rapid_mm_min,
         },
     )?;
+    let board = match &args.board {
+        Some(p) => BoardSpec::load(p)?,
+        None => BoardSpec::default(),
+    };
+    let max_rpm = path.segments.iter().map(|s| s.rpm).fold(0.0, f64::max);
+    board
+        .validate(&cutter, args.sample_rate_hz, max_rpm)
+        .map_err(|e| match &args.board {
+            Some(p) => anyhow!("{}: {e:#}", p.display()),
+            None => e,
+        })?;
+    if let (Some(a), Some(b)) = (&args.output, &args.steps_csv) {
+        if a == b {
+            bail!(
+                "--output and --steps-csv both name {}: give them different files",
+                a.display()
+            );
+        }
+    }
     // Feed moves with the spindle stopped cut nothing (the model needs the rotation):
     // usually a missing S word, so say so rather than write a trace of zeros.
     let idle: Vec<_> = path
@@ -353,28 +495,62 @@ pub fn run(args: &VoxelArgs) -> Result<()> {
             first.line
         );
     }
+    if args.output.is_some() {
+        let moves_y = path
+            .segments
+            .iter()
+            .any(|s| s.feed && (s.arc.is_some() || (s.p1[1] - s.p0[1]).abs() > 1e-9));
+        if let Some(w) = trace::one_axis_warning(&board, moves_y) {
+            eprintln!("warning: {w}");
+        }
+    }
     let stock = Stock::block(lo, hi, args.voxel_mm)?;
     let [nx, ny, nz] = stock.dims();
     let mem_mb = stock.memory_bytes() as f64 / 1048576.0;
     let mut sim = Simulator::new(cfg, stock)?;
-    let t_wall = Instant::now();
-    let stats = match args.output.as_deref() {
-        None => sim::run_path(&mut sim, &path, |_| Ok(()))?,
-        Some(p) if p == Path::new("-") => {
-            let mut w = BufWriter::new(std::io::stdout().lock());
-            writeln!(w, "{CSV_HEADER}")?;
-            let s = sim::run_path(&mut sim, &path, |s| Ok(s.write_csv(&mut w)?))?;
-            w.flush().context("writing standard output")?;
-            s
-        }
-        Some(p) => write_then_rename(p, |w| {
-            writeln!(w, "{CSV_HEADER}")?;
-            sim::run_path(&mut sim, &path, |s| {
-                s.write_csv(w)
-                    .with_context(|| format!("cannot write {}", p.display()))
-            })
-        })?,
+
+    let mut trace_out = args.output.as_deref().map(Output::create).transpose()?;
+    let mut steps_out = args.steps_csv.as_deref().map(Output::create).transpose()?;
+    let trace_name = trace_out
+        .as_ref()
+        .map(|o| o.name.clone())
+        .unwrap_or_default();
+    let steps_name = steps_out
+        .as_ref()
+        .map(|o| o.name.clone())
+        .unwrap_or_default();
+    let mut tw = match trace_out.as_mut() {
+        Some(o) => Some(
+            TraceWriter::new(o, board.trace_kind(), args.sample_rate_hz)
+                .with_context(|| format!("cannot write {trace_name}"))?,
+        ),
+        None => None,
     };
+    let mut sampler = tw
+        .is_some()
+        .then(|| TraceSampler::new(&board, &cutter, args.sample_rate_hz, path.t_start));
+    if let Some(o) = steps_out.as_mut() {
+        writeln!(o, "{CSV_HEADER}").with_context(|| format!("cannot write {steps_name}"))?;
+    }
+    let t_wall = Instant::now();
+    let stats = sim::run_path(&mut sim, &path, |s| {
+        if let Some(o) = steps_out.as_mut() {
+            s.write_csv(o)
+                .with_context(|| format!("cannot write {steps_name}"))?;
+        }
+        if let (Some(sm), Some(w)) = (sampler.as_mut(), tw.as_mut()) {
+            sm.step(s, |row| w.write_row(row))
+                .with_context(|| format!("cannot write {trace_name}"))?;
+        }
+        Ok(())
+    })?;
+    if let Some(w) = tw {
+        w.finish()
+            .with_context(|| format!("cannot write {trace_name}"))?;
+    }
+    for o in [trace_out, steps_out].into_iter().flatten() {
+        o.commit()?;
+    }
     let wall = t_wall.elapsed().as_secs_f64();
     if let Some(p) = &args.heightmap {
         heightmap::write_png(sim.stock(), p)?;
@@ -382,11 +558,12 @@ pub fn run(args: &VoxelArgs) -> Result<()> {
     let (feed_len, feed_s) = path.feed_totals();
     let m = args.voxel_mm;
     let (disks, dz) = sim.disks();
-    let summary = format!(
+    let removed_mm3 = stats.removed_voxels as f64 * m * m * m;
+    let mut summary = format!(
         "{}: {:.1} s simulated ({:.1} s of feed moves, {:.0} mm; {:.1} s cutting) \
          in {:.2} s wall: {:.1}x real time\n  {} steps, {} x {} x {} voxels of {} mm ({:.0} MB), \
-         {} disks of {:.3} mm, {:.0} mm^3 removed, {:.0} columns visited per step, {} \
-         full-wedge element scans",
+         {} disks of {:.3} mm, {:.0} mm^3 removed (MRR {:.0} mm^3/s while cutting), {:.0} columns visited per step, {} full-wedge \
+         element scans",
         args.toolpath.display(),
         stats.sim_s,
         feed_s,
@@ -402,41 +579,25 @@ pub fn run(args: &VoxelArgs) -> Result<()> {
         mem_mb,
         disks,
         dz,
-        stats.removed_voxels as f64 * m * m * m,
+        removed_mm3,
+        removed_mm3 / stats.cutting_s.max(1e-9),
         stats.column_visits as f64 / stats.steps.max(1) as f64,
         stats.full_scans,
     );
+    if let Some(sm) = &sampler {
+        let t = sm.summary();
+        summary += &format!(
+            "\n  trace {trace_name}: {} rows at {} Hz, {} sync pulses ({} dropped), clipped \
+             samples {:?} (clip levels {:?})",
+            t.rows, t.sample_rate_hz, t.sync_pulses, t.sync_dropped, t.clipped, t.clip_levels
+        );
+    }
     if args.bench {
         println!("{summary}");
     } else {
         eprintln!("{summary}");
     }
     Ok(())
-}
-
-/// Runs `body` on a temporary file beside `path` and renames it to `path` only on success,
-/// so a failed run never leaves a truncated trace that looks complete.
-fn write_then_rename<T>(
-    path: &Path,
-    body: impl FnOnce(&mut BufWriter<File>) -> Result<T>,
-) -> Result<T> {
-    let mut tmp_name = path.as_os_str().to_owned();
-    tmp_name.push(".partial");
-    let tmp = PathBuf::from(tmp_name);
-    let f = File::create(&tmp).with_context(|| format!("cannot create {}", tmp.display()))?;
-    let mut w = BufWriter::new(f);
-    let result = body(&mut w).and_then(|v| {
-        w.flush()
-            .with_context(|| format!("cannot write {}", tmp.display()))?;
-        std::fs::rename(&tmp, path)
-            .with_context(|| format!("cannot rename {} to {}", tmp.display(), path.display()))?;
-        Ok(v)
-    });
-    if result.is_err() {
-        // Best effort: the error being reported matters more than a leftover file.
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result
 }
 
 #[cfg(test)]

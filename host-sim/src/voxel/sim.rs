@@ -345,6 +345,7 @@ impl Simulator {
             feed_vx_mm_min: pose.vel_mm_s[0] * 60.0,
             feed_vy_mm_min: pose.vel_mm_s[1] * 60.0,
             spindle_rpm: pose.rpm,
+            spindle_angle_rad: self.phase,
             tooth_sync,
             fx_n: f[0],
             fy_n: f[1],

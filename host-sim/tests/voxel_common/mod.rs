@@ -3,7 +3,7 @@
 
 #![allow(dead_code)]
 
-use estimator_core::coefficients::AL6061;
+use estimator_core::coefficients::{LinearCoefficients, AL6061};
 use estimator_core::{average_forces_linear, AverageForces, Engagement, MillingMode};
 use host_sim::voxel::cutter::Cutter;
 use host_sim::voxel::sim::{run_path, EdgeRule, RunStats, SimConfig, Simulator};
@@ -32,6 +32,12 @@ pub struct Cut {
     pub feed: Feed,
     pub helix: f64,
     pub skip_cleared: bool,
+    /// Work material (default Al6061).
+    pub coeffs: LinearCoefficients,
+    /// Length of the block along the feed [mm] (default 14).
+    pub stock_len: f64,
+    /// Where the tool centre stops along the feed [mm] (default 8, inside the block).
+    pub end: f64,
 }
 
 impl Cut {
@@ -46,6 +52,9 @@ impl Cut {
             feed: Feed::PlusX,
             helix: 30.0,
             skip_cleared: true,
+            coeffs: AL6061,
+            stock_len: STOCK_LEN,
+            end: END,
         }
     }
 }
@@ -83,7 +92,7 @@ pub fn analytic(c: &Cut) -> AverageForces {
     };
     average_forces_linear(
         &tool,
-        &AL6061,
+        &c.coeffs,
         c.mode,
         Engagement {
             rr: (c.dr / R) as f32,
@@ -119,20 +128,21 @@ pub fn setup(c: &Cut) -> (Simulator, Toolpath) {
         }
     };
     let (zlo, zhi) = span(0.0, c.da + 1.0, m, true);
-    let (alo, ahi) = span(0.0, STOCK_LEN, m, false);
+    let (alo, ahi) = span(0.0, c.stock_len, m, false);
+    let end = c.end;
     // Feed frame -> machine: +X feed: (a, y); +Y feed: left of +Y is -X, so x = -y.
     let (lo, hi, start, target) = match c.feed {
         Feed::PlusX => (
             [alo, ylo, zlo],
             [ahi, yhi, zhi],
             [-R - 0.5, 0.0, -c.da],
-            format!("X{END}"),
+            format!("X{end}"),
         ),
         Feed::PlusY => (
             [-yhi, alo, zlo],
             [-ylo, ahi, zhi],
             [0.0, -R - 0.5, -c.da],
-            format!("Y{END}"),
+            format!("Y{end}"),
         ),
     };
     let stock = Stock::block(lo, hi, m).expect("stock");
@@ -145,7 +155,7 @@ pub fn setup(c: &Cut) -> (Simulator, Toolpath) {
     };
     let cfg = SimConfig {
         cutter,
-        coeffs: AL6061,
+        coeffs: c.coeffs,
         steps_per_rev: 24,
         disk_mm: 0.6,
         edge: c.edge,
