@@ -11,9 +11,13 @@
 //! - [`replay`]: a trace through the streaming Monitor (`replay`, `bench-replay`), writing
 //!   [`records`] (per-tooth CSV) and a [`plot`]; [`kistler`] reads dynamometer exports.
 //! - [`sim`]: the analytic trace simulator (`simulate`).
+//! - [`demo`]: a built-in cut simulated, replayed, tabulated and plotted (`demo`).
+//! - [`telemetry`]: the board's UART telemetry capture -> records CSV (`decode-telemetry`).
 
 pub mod config;
+pub mod demo;
 pub mod estimate;
+pub mod evaluate;
 pub mod gen_poly;
 pub mod kistler;
 pub mod lstsq;
@@ -21,5 +25,6 @@ pub mod plot;
 pub mod records;
 pub mod replay;
 pub mod sim;
+pub mod telemetry;
 pub mod trace;
 pub mod voxel;

@@ -64,6 +64,13 @@ struct Cli {
 
 #[derive(Subcommand, Debug)]
 enum Command {
+    /// Simulate a built-in cut with a flute breaking, replay it, print true vs estimated
+    /// depths of cut and the alarm, write a plot and the CSVs (start here).
+    #[command(after_help = host_sim::demo::DEMO_HELP)]
+    Demo(host_sim::demo::DemoArgs),
+    /// Decode a capture of the board's UART telemetry into the per-tooth records CSV.
+    #[command(after_help = host_sim::telemetry::DECODE_HELP)]
+    DecodeTelemetry(host_sim::telemetry::DecodeArgs),
     /// Fit the f_xt polynomials from the forward model and write them as Rust constants.
     GenPoly {
         /// Cutting coefficients (TOML: ks = {k, p}, r1, r2, tc_fit_mm = [lo, hi]);
@@ -135,6 +142,40 @@ enum Command {
     /// Simulate milling a block along a toolpath (G-code or timed CSV) by voxel material
     /// removal (paper 004): forces, torque and the true engagement per 1/24 revolution.
     Voxel(host_sim::voxel::VoxelArgs),
+    /// Measure the alarms on many simulated cuts: detection rate and latency of flute
+    /// breakage, chipping, tool loss and overload, and false alarms per hour of cutting.
+    #[command(
+        after_help = "Each case: random tool (2-4 flutes, R 4-8 mm), speed 1200-4000 \
+                      rpm, feed 0.04-0.2 mm/tooth, R_r 0.2-1.6, R_a 0.3-1.5, down or up \
+                      milling, runout up to 35 % of the chip on one flute, 3 % noise on the \
+                      tooth averages, current-loop lag, entry and exit ramps, feed and speed \
+                      changes. Sets: normal (no damage), break, chip (30-70 % of the edge), \
+                      gone (whole tool), overload. See host_sim::evaluate."
+    )]
+    EvaluateAlarms {
+        /// `small` (CI) or `full` (BENCHMARKS.md).
+        #[arg(long, default_value = "small")]
+        set: SetArg,
+        /// Seed of the draws.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Worker threads.
+        #[arg(long, default_value_t = 2)]
+        threads: usize,
+        /// Exit with an error unless every full breakage is caught within one revolution
+        /// and the normal set has no false alarm.
+        #[arg(long)]
+        check: bool,
+        /// Also list every case's outcome (stderr).
+        #[arg(long)]
+        verbose: bool,
+    },
+}
+
+#[derive(Clone, Copy, Debug, ValueEnum)]
+enum SetArg {
+    Small,
+    Full,
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -204,7 +245,43 @@ fn run(cli: Cli) -> Result<()> {
         Command::TraceBin { trace, output } => trace_bin_cmd(&trace, &output),
         Command::BenchReplay { seconds, repeat } => bench_replay_cmd(seconds, repeat),
         Command::Voxel(args) => host_sim::voxel::run(&args),
+        Command::Demo(args) => host_sim::demo::run(&args).map(drop),
+        Command::DecodeTelemetry(args) => host_sim::telemetry::run(&args).map(drop),
+        Command::EvaluateAlarms {
+            set,
+            seed,
+            threads,
+            check,
+            verbose,
+        } => evaluate_cmd(set, seed, threads, check, verbose),
     }
+}
+
+fn evaluate_cmd(set: SetArg, seed: u64, threads: usize, check: bool, verbose: bool) -> Result<()> {
+    use host_sim::evaluate;
+    let sizes = match set {
+        SetArg::Small => evaluate::SetSizes::SMALL,
+        SetArg::Full => evaluate::SetSizes::FULL,
+    };
+    let start = std::time::Instant::now();
+    let outcomes = evaluate::evaluate(sizes, seed, threads)?;
+    let fig = evaluate::figures(&outcomes);
+    if verbose {
+        for o in &outcomes {
+            eprintln!("{o:?}");
+        }
+    }
+    println!("{}", evaluate::report(&fig));
+    eprintln!(
+        "{} cases in {:.1} s (seed {seed})",
+        outcomes.len(),
+        start.elapsed().as_secs_f64()
+    );
+    if check {
+        evaluate::check_goals(&fig)?;
+        eprintln!("goals met: every full breakage within one revolution, no false alarm");
+    }
+    Ok(())
 }
 
 fn gen_poly_cmd(coeffs_file: Option<&Path>, output: Option<&Path>, check: bool) -> Result<()> {

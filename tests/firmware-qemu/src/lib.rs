@@ -185,25 +185,16 @@ pub fn decode_frames(bytes: &[u8]) -> (Vec<RecordFrame>, DecodeStats) {
     (frames, stats)
 }
 
-/// `host-sim decode-telemetry --input capture.bin --output records.csv`, ready to move into
-/// host-sim (its `main.rs` was being edited when this was written; see the report): a
-/// captured telemetry stream (the UART's raw bytes) into the per-tooth records CSV that
-/// `host-sim replay` writes (no truth columns; `time_s` = `end_sample / sample_rate_hz`).
-/// Returns what the decoder saw, so that the command can report lost and bad frames.
+/// A captured telemetry stream (the UART's raw bytes) into the per-tooth records CSV that
+/// `host-sim replay` writes (no truth columns; `time_s` = `end_sample / sample_rate_hz`):
+/// `host-sim decode-telemetry`'s own function, [`host_sim::telemetry::decode_to_csv`].
+/// Returns what the decoder saw.
 pub fn decode_telemetry_to_csv<W: std::io::Write>(
     bytes: &[u8],
     out: W,
 ) -> anyhow::Result<(DecodeStats, W)> {
-    let mut w = host_sim::records::RecordWriter::new(out, false)?;
-    let mut result = Ok(());
-    let stats = decode(bytes, |f| {
-        if result.is_ok() {
-            let t = f.record.time_s(f.sample_rate_hz);
-            result = w.write(t, &f.record, &host_sim::trace::Truth::default());
-        }
-    });
-    result?;
-    Ok((stats, w.finish()?))
+    let (summary, w) = host_sim::telemetry::decode_to_csv(bytes, out, None)?;
+    Ok((summary.stats, w))
 }
 
 /// The `key=value` pairs of the `firmware-qemu stats` line on stderr.

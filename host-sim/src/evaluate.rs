@@ -1,0 +1,595 @@
+//! `evaluate-alarms`: the alarm detectors measured on many simulated cuts.
+//!
+//! # Design
+//! Each case is a scenario for [`crate::sim`] built from random draws (tool, speed, feed,
+//! engagement, milling mode, runout up to one flute cutting 35 % more, 3 % noise on the
+//! tooth averages, current-loop lag, entry and exit ramps, feed and speed changes), then
+//! replayed sample by sample through `estimator_core::Pipeline` (the firmware's code) with
+//! the board model the scenario was simulated with. Five sets:
+//! - normal: no damage; every alarm is a false alarm;
+//! - break: one flute breaks at a random time in a steady stretch;
+//! - chip: one flute loses 30-70 % of its cutting edge (from the tip);
+//! - gone: every flute breaks at once (the tool is lost);
+//! - overload: the configured maximum engagement is 80 % of the cut's in both directions.
+//!
+//! An alarm before the damage (or of another cause than the one expected) is false.
+//! Latency is from the damage to the end of the tooth period that raised the alarm.
+//! False alarms are counted per hour of cutting (time the truth has the tool in the work).
+
+use anyhow::{anyhow, bail, Result};
+use estimator_core::alarm::{AlarmConfig, Cause};
+use estimator_core::{
+    average_forces, Engagement, EstimatorConfig, MachineConfig, MillingMode, MonitorConfig,
+    PipelineState, TABLE2,
+};
+use std::fmt::Write as _;
+
+use crate::sim::{self, Scenario};
+
+/// What kind of damage a case has.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    /// None.
+    Normal,
+    /// One flute breaks.
+    Break,
+    /// One flute chips.
+    Chip,
+    /// The whole tool is lost.
+    Gone,
+    /// The cut is heavier than the configured maximum engagement.
+    Overload,
+}
+
+impl Kind {
+    /// Set name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Kind::Normal => "normal",
+            Kind::Break => "break",
+            Kind::Chip => "chip",
+            Kind::Gone => "gone",
+            Kind::Overload => "overload",
+        }
+    }
+
+    /// The alarm this set must raise.
+    pub fn expected(self) -> Option<Cause> {
+        match self {
+            Kind::Normal => None,
+            Kind::Break | Kind::Chip => Some(Cause::Breakage),
+            Kind::Gone => Some(Cause::ToolGone),
+            Kind::Overload => Some(Cause::Overload),
+        }
+    }
+}
+
+/// How many cases of each kind.
+#[derive(Clone, Copy, Debug)]
+pub struct SetSizes {
+    /// Cases per kind, in [`KINDS`] order.
+    pub counts: [usize; 5],
+}
+
+/// The kinds, in report order.
+pub const KINDS: [Kind; 5] = [
+    Kind::Normal,
+    Kind::Break,
+    Kind::Chip,
+    Kind::Gone,
+    Kind::Overload,
+];
+
+impl SetSizes {
+    /// CI's set: small enough for a debug-build minute, every kind present.
+    pub const SMALL: SetSizes = SetSizes {
+        counts: [10, 10, 5, 4, 4],
+    };
+    /// The figures in BENCHMARKS.md.
+    pub const FULL: SetSizes = SetSizes {
+        counts: [120, 120, 60, 30, 30],
+    };
+}
+
+/// One drawn case.
+#[derive(Clone, Debug)]
+pub struct Case {
+    /// Damage kind.
+    pub kind: Kind,
+    /// The simulated cut.
+    pub scenario: Scenario,
+    /// The monitor and alarms it is replayed with.
+    pub machine: MachineConfig,
+    /// When the damage happens [s] (none for normal cases).
+    pub damage_s: Option<f64>,
+    /// Spindle speed at the damage [rpm] (for "within one revolution").
+    pub rpm_at_damage: f64,
+}
+
+/// What came out of one case.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Outcome {
+    /// Damage kind.
+    pub kind: Kind,
+    /// Cutting time [s].
+    pub cutting_s: f64,
+    /// The first alarm: time [s] and cause.
+    pub first_alarm: Option<(f64, Cause)>,
+    /// Damage time [s].
+    pub damage_s: Option<f64>,
+    /// Tooth period at the damage [s].
+    pub tooth_s: f64,
+    /// Revolution at the damage [s].
+    pub rev_s: f64,
+}
+
+impl Outcome {
+    /// The expected alarm, after the damage: its latency [s].
+    pub fn detected_after_s(&self) -> Option<f64> {
+        let (t, cause) = self.first_alarm?;
+        let d = self.damage_s?;
+        (Some(cause) == self.kind.expected() && t >= d).then_some(t - d)
+    }
+
+    /// An alarm that should not have been raised (before the damage, or of another cause).
+    pub fn false_alarm(&self) -> bool {
+        match self.first_alarm {
+            None => false,
+            Some(_) => self.detected_after_s().is_none(),
+        }
+    }
+}
+
+/// Deterministic draws (xorshift64*), so a seed reproduces a set.
+struct Draw(u64);
+
+impl Draw {
+    fn new(seed: u64) -> Self {
+        Draw(seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) | 1)
+    }
+    fn unit(&mut self) -> f64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        (self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 / (1u64 << 53) as f64
+    }
+    fn range(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * self.unit()
+    }
+    fn pick<T: Copy>(&mut self, v: &[T]) -> T {
+        v[((self.unit() * v.len() as f64) as usize).min(v.len() - 1)]
+    }
+}
+
+/// The board every case is simulated and replayed with (one feed axis, current-sensed
+/// spindle), as scenario TOML.
+const BOARD: &str = r#"
+[input.motor.feed]
+two_axis = false
+[[input.motor.feed.axes]]
+torque_constant_nm_per_a = 1.2
+screw_lead_mm = 10.0
+efficiency = 0.9
+current_offset_a = 0.05
+coulomb_n = 40.0
+viscous_n_per_mm_min = 0.02
+stiction_band_mm_min = 1.0
+sign = 1.0
+[[input.motor.feed.axes]]
+torque_constant_nm_per_a = 1.2
+screw_lead_mm = 10.0
+efficiency = 0.9
+current_offset_a = 0.0
+coulomb_n = 40.0
+viscous_n_per_mm_min = 0.02
+stiction_band_mm_min = 1.0
+sign = 1.0
+[input.motor.spindle.current]
+torque_constant_nm_per_a = 0.8
+[[input.motor.spindle.current.idle_current_a]]
+from_rpm = 0.0
+slope = 0.0001
+intercept = 0.5
+"#;
+
+/// Feed force per ampere of [`BOARD`]'s axis [N/A]: 2 pi eta K_t / L.
+const FEED_N_PER_A: f64 = 2.0 * std::f64::consts::PI * 0.9 * 1.2 / 0.010;
+/// Spindle torque constant of [`BOARD`] [N m/A].
+const SPINDLE_NM_PER_A: f64 = 0.8;
+/// ADC sample rate of every case [Hz].
+const FS_HZ: f64 = 10_000.0;
+/// Noise on the tooth-average forces, relative to the tangential force.
+const NOISE_REL: f64 = 0.03;
+
+/// Draws case `index` of `kind` from `seed`.
+pub fn draw_case(kind: Kind, index: usize, seed: u64) -> Result<Case> {
+    let mut d =
+        Draw::new(seed ^ ((index as u64) << 8) ^ (kind as u64 + 1).wrapping_mul(0x0051_ed27));
+    let flutes: u8 = d.pick(&[2, 3, 4]);
+    let radius = d.pick(&[4.0, 5.0, 6.0, 8.0]);
+    let rpm = d.range(1200.0, 4000.0);
+    let tc = d.range(0.04, 0.2);
+    let mode = if d.unit() < 0.7 {
+        MillingMode::Down
+    } else {
+        MillingMode::Up
+    };
+    let rr = d.range(0.2, 1.6);
+    let ra = d.range(0.3, 1.5);
+    let (dr, da) = (rr * radius, ra * radius);
+    let feed = tc * f64::from(flutes) * rpm;
+    let tool = estimator_core::Tool {
+        radius_mm: radius as f32,
+        flutes,
+        helix_deg: 30.0,
+    };
+    let e = Engagement {
+        rr: rr as f32,
+        ra: ra as f32,
+        tc_mm: tc as f32,
+    };
+    let ft = f64::from(average_forces(&tool, &TABLE2, mode, e).ft_n);
+    // Per-sample noise that leaves NOISE_REL of F_at on a tooth average.
+    let spt = FS_HZ * 60.0 / (rpm * f64::from(flutes));
+    let f_noise = NOISE_REL * ft * spt.sqrt();
+    let feed_noise = f_noise / FEED_N_PER_A;
+    let spindle_noise = f_noise * radius * 1e-3 / SPINDLE_NM_PER_A;
+    // Runout: one flute out by up to 35 % of the chip, the others a little.
+    let mut runout = vec![d.range(0.0, 0.35) * tc];
+    for _ in 1..flutes {
+        runout.push(d.range(-0.05, 0.05) * tc);
+    }
+    let rev_s = 60.0 / rpm;
+
+    // Timeline: air, entry ramp, steady, a feed change, steady, a speed change, steady,
+    // exit ramp, air. Each change on or off by draw.
+    let entry_s = d.range(5.0, 20.0) * rev_s;
+    let exit_s = d.range(5.0, 20.0) * rev_s;
+    let feed_change = d.unit() < 0.5;
+    let speed_change = d.unit() < 0.5;
+    let feed2 = feed * if feed_change { d.range(0.6, 1.5) } else { 1.0 };
+    let rpm2 = rpm
+        * if speed_change {
+            d.range(0.85, 1.15)
+        } else {
+            1.0
+        };
+    let steady = [40.0 * rev_s, 25.0 * rev_s, 25.0 * rev_s];
+    let mut t = 0.0;
+    let mut segs = String::new();
+    let mut seg = |label: &str, dur: f64, rpm: String, feed: String, dr: String| {
+        let _ = write!(
+            segs,
+            "\n[[segment]]\nlabel = \"{label}\"\nduration_s = {dur}\nrpm = {rpm}\n\
+             feed_mm_min = {feed}\ndr_mm = {dr}\nda_mm = {da}\n"
+        );
+    };
+    let air = 10.0 * rev_s;
+    seg("air", air, rpm.to_string(), feed.to_string(), "0.0".into());
+    seg(
+        "entry",
+        entry_s,
+        rpm.to_string(),
+        feed.to_string(),
+        format!("[0.0, {dr}]"),
+    );
+    t += air + entry_s;
+    let steady_1 = (t, t + steady[0]);
+    seg(
+        "steady",
+        steady[0],
+        rpm.to_string(),
+        feed.to_string(),
+        dr.to_string(),
+    );
+    t += steady[0];
+    let ramp = 5.0 * rev_s;
+    seg(
+        "feed",
+        ramp,
+        rpm.to_string(),
+        format!("[{feed}, {feed2}]"),
+        dr.to_string(),
+    );
+    t += ramp;
+    let steady_2 = (t, t + steady[1]);
+    seg(
+        "steady",
+        steady[1],
+        rpm.to_string(),
+        feed2.to_string(),
+        dr.to_string(),
+    );
+    t += steady[1];
+    seg(
+        "speed",
+        ramp,
+        format!("[{rpm}, {rpm2}]"),
+        feed2.to_string(),
+        dr.to_string(),
+    );
+    t += ramp;
+    let steady_3 = (t, t + steady[2]);
+    seg(
+        "steady",
+        steady[2],
+        rpm2.to_string(),
+        feed2.to_string(),
+        dr.to_string(),
+    );
+    seg(
+        "exit",
+        exit_s,
+        rpm2.to_string(),
+        feed2.to_string(),
+        format!("[{dr}, 0.0]"),
+    );
+    seg(
+        "air",
+        air,
+        rpm2.to_string(),
+        feed2.to_string(),
+        "0.0".into(),
+    );
+
+    // Damage: in one of the steady stretches, past its first 5 revolutions.
+    let stretch = d.pick(&[steady_1, steady_2, steady_3]);
+    let (damage_s, rpm_at) = match kind {
+        Kind::Normal => (None, rpm),
+        // Overloaded from the moment the cut is entered.
+        Kind::Overload => (Some(air), rpm),
+        _ => {
+            let t = d.range(stretch.0 + 5.0 * rev_s, stretch.1 - 5.0 * rev_s);
+            let rpm_at = if t > steady_3.0 { rpm2 } else { rpm };
+            (Some(t), rpm_at)
+        }
+    };
+    let mut events = String::new();
+    let flute = (d.unit() * f64::from(flutes)) as u8 % flutes;
+    match (kind, damage_s) {
+        (Kind::Break, Some(t)) => {
+            let _ = write!(
+                events,
+                "\n[[event]]\ntime_s = {t}\nflute = {flute}\nkind = \"break\"\n"
+            );
+        }
+        (Kind::Chip, Some(t)) => {
+            let f = d.range(0.3, 0.7);
+            let _ = write!(
+                events,
+                "\n[[event]]\ntime_s = {t}\nflute = {flute}\nkind = \"chip\"\nfraction = {f}\n"
+            );
+        }
+        (Kind::Gone, Some(t)) => {
+            for j in 0..flutes {
+                let _ = write!(
+                    events,
+                    "\n[[event]]\ntime_s = {t}\nflute = {j}\nkind = \"break\"\n"
+                );
+            }
+        }
+        _ => {}
+    }
+    let mode_name = match mode {
+        MillingMode::Down => "down",
+        MillingMode::Up => "up",
+    };
+    let seed_case = seed.wrapping_add(index as u64 * 7919);
+    let runout_list = runout
+        .iter()
+        .map(|r| format!("{r}"))
+        .collect::<Vec<_>>()
+        .join(", ");
+    let text = format!(
+        "sample_rate_hz = {FS_HZ}\nseed = {seed_case}\nmode = \"{mode_name}\"\n\
+         [tool]\nradius_mm = {radius}\nflutes = {flutes}\nhelix_deg = 30.0\nrunout_mm = [{runout_list}]\n\
+         {BOARD}\n[signal]\nfeed_lag_s = 0.0005\nspindle_lag_s = 0.0005\nfeed_noise = {feed_noise}\n\
+         spindle_noise = {spindle_noise}\nsync_jitter_samples = 1\n{segs}{events}"
+    );
+    let scenario = Scenario::from_toml(&text, &format!("{} case {index}", kind.name()))?;
+    let clip = sim::clip_levels(&scenario);
+    let mut alarms = AlarmConfig::default();
+    if kind == Kind::Overload {
+        alarms.overload.max_rr = (0.8 * rr) as f32;
+        alarms.overload.max_ra = (0.8 * ra) as f32;
+    }
+    let machine = MachineConfig {
+        monitor: MonitorConfig {
+            sample_rate_hz: FS_HZ as f32,
+            input: scenario.input.clone(),
+            estimator: EstimatorConfig {
+                tool,
+                mode,
+                ..EstimatorConfig::default()
+            },
+            clip: clip.map(|c| c as f32),
+            ..MonitorConfig::default()
+        },
+        alarms,
+    };
+    Ok(Case {
+        kind,
+        scenario,
+        machine,
+        damage_s,
+        rpm_at_damage: rpm_at,
+    })
+}
+
+/// Simulates and replays one case.
+pub fn run_case(case: &Case) -> Result<Outcome> {
+    let pipeline = case
+        .machine
+        .clone()
+        .build()
+        .map_err(|e| anyhow!("{} case: {e}", case.kind.name()))?;
+    let mut st = PipelineState::default();
+    let mut first_alarm = None;
+    let mut cutting_samples = 0u64;
+    let fs = f64::from(case.machine.monitor.sample_rate_hz);
+    sim::simulate(&case.scenario, |row| {
+        cutting_samples += u64::from(row.truth.dr_mm > 0.0);
+        if let Some((rec, out)) = pipeline.process(&mut st, &row.to_sample()) {
+            if let (None, Some(ev)) = (first_alarm, out.event) {
+                if ev.cause != Cause::Wear {
+                    first_alarm = Some((rec.time_s(fs as f32), ev.cause));
+                }
+            }
+        }
+        Ok(())
+    })?;
+    let flutes = f64::from(case.scenario.tool.flutes);
+    Ok(Outcome {
+        kind: case.kind,
+        cutting_s: cutting_samples as f64 / fs,
+        first_alarm,
+        damage_s: case.damage_s,
+        tooth_s: 60.0 / (case.rpm_at_damage * flutes),
+        rev_s: 60.0 / case.rpm_at_damage,
+    })
+}
+
+/// Runs every case of `sizes` on up to `threads` threads.
+pub fn evaluate(sizes: SetSizes, seed: u64, threads: usize) -> Result<Vec<Outcome>> {
+    let mut cases = Vec::new();
+    for (kind, &n) in KINDS.iter().zip(&sizes.counts) {
+        for i in 0..n {
+            cases.push(draw_case(*kind, i, seed)?);
+        }
+    }
+    let threads = threads.clamp(1, 16);
+    let chunks: Vec<Vec<Case>> = (0..threads)
+        .map(|k| cases.iter().skip(k).step_by(threads).cloned().collect())
+        .collect();
+    let results: Vec<Result<Vec<Outcome>>> = std::thread::scope(|s| {
+        let handles: Vec<_> = chunks
+            .iter()
+            .map(|chunk| s.spawn(move || chunk.iter().map(run_case).collect::<Result<Vec<_>>>()))
+            .collect();
+        handles
+            .into_iter()
+            .map(|h| {
+                h.join()
+                    .unwrap_or_else(|_| Err(anyhow!("an evaluation thread panicked")))
+            })
+            .collect()
+    });
+    let mut out = Vec::new();
+    for r in results {
+        out.extend(r?);
+    }
+    Ok(out)
+}
+
+/// Figures of one set.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SetFigures {
+    /// Cases.
+    pub cases: usize,
+    /// Expected alarm raised after the damage.
+    pub detected: usize,
+    /// ... within one revolution of it.
+    pub within_rev: usize,
+    /// Mean and largest latency [ms].
+    pub latency_ms: (f64, f64),
+    /// Mean and largest latency [tooth periods].
+    pub latency_teeth: (f64, f64),
+    /// False alarms (before the damage, or of another cause).
+    pub false_alarms: usize,
+    /// Cutting time [h].
+    pub cutting_h: f64,
+}
+
+/// Figures per set, in [`KINDS`] order.
+pub fn figures(outcomes: &[Outcome]) -> [SetFigures; 5] {
+    KINDS.map(|kind| {
+        let mut f = SetFigures::default();
+        let mut lat = Vec::new();
+        for o in outcomes.iter().filter(|o| o.kind == kind) {
+            f.cases += 1;
+            f.cutting_h += o.cutting_s / 3600.0;
+            f.false_alarms += usize::from(o.false_alarm());
+            if let Some(l) = o.detected_after_s() {
+                f.detected += 1;
+                // An overload has no instant of damage: no latency.
+                if kind != Kind::Overload {
+                    f.within_rev += usize::from(l <= o.rev_s);
+                    lat.push((l * 1e3, l / o.tooth_s));
+                }
+            }
+        }
+        if !lat.is_empty() {
+            let n = lat.len() as f64;
+            f.latency_ms = (
+                lat.iter().map(|l| l.0).sum::<f64>() / n,
+                lat.iter().map(|l| l.0).fold(0.0, f64::max),
+            );
+            f.latency_teeth = (
+                lat.iter().map(|l| l.1).sum::<f64>() / n,
+                lat.iter().map(|l| l.1).fold(0.0, f64::max),
+            );
+        }
+        f
+    })
+}
+
+/// The report table (markdown).
+pub fn report(fig: &[SetFigures; 5]) -> String {
+    let mut s = String::from(
+        "| set | cases | detected | within 1 rev | latency mean / max [teeth] | latency mean / max [ms] | false alarms | cutting [h] | false alarms per hour |\n\
+         | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n",
+    );
+    for (kind, f) in KINDS.iter().zip(fig) {
+        let det = if *kind == Kind::Overload {
+            format!(
+                "{} ({:.0} %) | - | - | -",
+                f.detected,
+                100.0 * f.detected as f64 / f.cases.max(1) as f64
+            )
+        } else if kind.expected().is_some() {
+            format!(
+                "{} ({:.0} %) | {} ({:.0} %) | {:.1} / {:.1} | {:.1} / {:.1}",
+                f.detected,
+                100.0 * f.detected as f64 / f.cases.max(1) as f64,
+                f.within_rev,
+                100.0 * f.within_rev as f64 / f.cases.max(1) as f64,
+                f.latency_teeth.0,
+                f.latency_teeth.1,
+                f.latency_ms.0,
+                f.latency_ms.1
+            )
+        } else {
+            "- | - | - | -".to_string()
+        };
+        let _ = writeln!(
+            s,
+            "| {} | {} | {det} | {} | {:.3} | {:.1} |",
+            kind.name(),
+            f.cases,
+            f.false_alarms,
+            f.cutting_h,
+            f.false_alarms as f64 / f.cutting_h.max(1e-12)
+        );
+    }
+    s
+}
+
+/// The goals the issue sets: every full breakage within one revolution, no false alarm in
+/// the normal set.
+pub fn check_goals(fig: &[SetFigures; 5]) -> Result<()> {
+    let [normal, brk, ..] = fig;
+    if brk.within_rev != brk.cases {
+        bail!(
+            "{} of {} full flute breakages caught within one revolution (goal: all)",
+            brk.within_rev,
+            brk.cases
+        );
+    }
+    if normal.false_alarms != 0 {
+        bail!(
+            "{} false alarms in the normal set (goal: none)",
+            normal.false_alarms
+        );
+    }
+    Ok(())
+}
