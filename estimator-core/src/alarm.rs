@@ -29,8 +29,11 @@
 //!   scale the forces), so the multiplier is meaningful against a known engagement: the
 //!   taught or programmed one ([`DriftReference::Known`]).
 //!
-//! Cost: a few dozen operations per tooth; eq. 7 (two `powf`) only when a breakage
-//! candidate needs its threshold or the feed changed (overload limit).
+//! Cost: about 350 instructions per tooth on the Cortex-M4F, a square root (the watched
+//! resultant) the largest part (BENCHMARKS.md); eq. 7 (`Operating::new`, two `expf`) only
+//! when a breakage candidate needs its threshold, the feed changed (overload limit), or,
+//! once per revolution, for the wear update when the record is fed alone (the pipeline
+//! hands over the estimator's eq. 7 at the estimate instead).
 
 use crate::estimator::EstimatorConfig;
 use crate::forward::{AverageForces, Operating};
@@ -39,9 +42,11 @@ use crate::probe::{NoProbe, Probe, Stage};
 use crate::status::Status;
 use crate::ConfigError;
 
-/// Teeth of history kept: two revolutions of the largest tool plus one.
-const HISTORY: usize = 33;
-/// Most flutes the alarms handle (HISTORY = 2 N + 1).
+/// Teeth of history kept: a power of two (the ring index wraps with a mask), at least
+/// two revolutions of the largest tool plus two.
+const HISTORY: usize = 64;
+const _: () = assert!(HISTORY.is_power_of_two() && HISTORY >= 2 * MAX_FLUTES + 2);
+/// Most flutes the alarms handle.
 pub const MAX_FLUTES: usize = 16;
 /// Bins of a taught envelope.
 pub const ENVELOPE_BINS: usize = 128;
@@ -78,8 +83,8 @@ pub struct BreakageConfig {
 pub struct ToolGoneConfig {
     /// Off: never raises.
     pub enabled: bool,
-    /// The force must fall from a steady cut to the floor within this many teeth.
-    pub max_drop_teeth: u8,
+    /// The force must fall from a steady cut to the floor within this many revolutions.
+    pub max_drop_revs: u8,
 }
 
 /// Overload detector.
@@ -185,7 +190,7 @@ impl Default for AlarmConfig {
             },
             tool_gone: ToolGoneConfig {
                 enabled: true,
-                max_drop_teeth: 3,
+                max_drop_revs: 2,
             },
             overload: OverloadConfig {
                 enabled: true,
@@ -226,8 +231,8 @@ impl AlarmConfig {
         if b.debounce_teeth == 0 || b.debounce_teeth as usize > n.max(1) {
             return Err(OutOfRange("breakage.debounce_teeth"));
         }
-        if self.tool_gone.max_drop_teeth == 0 {
-            return Err(OutOfRange("tool_gone.max_drop_teeth"));
+        if self.tool_gone.max_drop_revs == 0 {
+            return Err(OutOfRange("tool_gone.max_drop_revs"));
         }
         let o = &self.overload;
         if !(o.max_rr > 0.0 && o.max_rr <= 2.0) {
@@ -266,10 +271,14 @@ impl AlarmConfig {
                 return Err(OutOfRange("teach.envelope"));
             }
         }
+        let ones = |k: usize| if k >= 64 { u64::MAX } else { (1u64 << k) - 1 };
         Ok(Alarms {
             cfg: self,
             est: *est,
             n,
+            armed_rev: ones(n),
+            armed_two_revs: ones(2 * n),
+            armed_e: 0b11 | (0b11 << n),
         })
     }
 }
@@ -331,17 +340,15 @@ pub struct AlarmOutput {
     pub wear_warning: bool,
 }
 
-#[derive(Clone, Copy, Debug, Default)]
-struct Tooth {
-    f_n: f32,
-    tooth: u8,
-    armed: bool,
-}
-
 /// Running state of [`Alarms`]: a few hundred bytes.
 #[derive(Clone, Copy, Debug)]
 pub struct AlarmState {
-    hist: [Tooth; HISTORY],
+    /// Per tooth, a ring of `HISTORY` written at `head`: the watched force and the tooth
+    /// index. Bit `k` of `armed`: the `k`-th most recent tooth is armed (its force
+    /// usable); a tooth that is not is never read.
+    hist_f: [f32; HISTORY],
+    hist_tooth: [u8; HISTORY],
+    armed: u64,
     head: usize,
     /// Bit i: tooth i records back exceeded the breakage threshold upwards / downwards.
     exceed_pos: u32,
@@ -351,6 +358,11 @@ pub struct AlarmState {
     /// Teeth since the last steady (armed, not transient) cutting record, and its force.
     since_steady: u32,
     steady_force_n: f32,
+    /// Teeth since the last record flagged transient.
+    since_transient: u32,
+    /// Running mean of E^2 (clipped) and the number of E values seen.
+    e_var: f32,
+    e_count: u16,
     /// Recent peak of the steady force (decaying).
     peak_force_n: f32,
     overload_run: u8,
@@ -369,7 +381,9 @@ pub struct AlarmState {
 impl Default for AlarmState {
     fn default() -> Self {
         AlarmState {
-            hist: [Tooth::default(); HISTORY],
+            hist_f: [0.0; HISTORY],
+            hist_tooth: [0; HISTORY],
+            armed: 0,
             head: 0,
             exceed_pos: 0,
             exceed_neg: 0,
@@ -377,6 +391,9 @@ impl Default for AlarmState {
             since_steady: u32::MAX,
             steady_force_n: 0.0,
             peak_force_n: 0.0,
+            since_transient: 0,
+            e_var: 0.0,
+            e_count: 0,
             overload_run: 0,
             teach_run: 0,
             cut_teeth: 0,
@@ -390,6 +407,11 @@ impl Default for AlarmState {
     }
 }
 
+/// Weight of a new E in its running variance (memory of about 32 teeth).
+const E_ALPHA: f32 = 1.0 / 32.0;
+/// Breakage threshold floor, in standard deviations of E.
+const E_SIGMAS: f32 = 5.0;
+
 /// Per-tooth decay of the recent steady-force peak (tool gone vs exit).
 const PEAK_DECAY: f32 = 0.98;
 
@@ -402,9 +424,22 @@ impl AlarmState {
         self.latched.as_ref()
     }
 
-    fn back(&self, k: usize) -> Tooth {
-        let i = (self.head + HISTORY - 1 - k % HISTORY) % HISTORY;
-        self.hist.get(i).copied().unwrap_or_default()
+    /// Ring index of the `k`-th most recent tooth (0 = newest).
+    #[inline(always)]
+    fn slot(&self, k: usize) -> usize {
+        self.head.wrapping_sub(1).wrapping_sub(k) & (HISTORY - 1)
+    }
+
+    /// Watched force of the `k`-th most recent tooth.
+    #[inline(always)]
+    fn force(&self, k: usize) -> f32 {
+        self.hist_f.get(self.slot(k)).copied().unwrap_or(0.0)
+    }
+
+    /// Tooth index of the `k`-th most recent tooth.
+    #[inline(always)]
+    fn tooth(&self, k: usize) -> u8 {
+        self.hist_tooth.get(self.slot(k)).copied().unwrap_or(0)
     }
 }
 
@@ -429,6 +464,11 @@ pub struct Alarms {
     cfg: AlarmConfig,
     est: EstimatorConfig,
     n: usize,
+    /// `AlarmState::armed` masks: the newest `n` teeth, the newest `2 n`, and teeth
+    /// `0, 1, n, n + 1` back (`E_i`).
+    armed_rev: u64,
+    armed_two_revs: u64,
+    armed_e: u64,
 }
 
 impl Alarms {
@@ -455,17 +495,26 @@ impl Alarms {
     }
 
     /// Eq. 7 forces at an engagement, as the watched signal.
+    #[inline(never)]
     fn model_signal(&self, rr: f32, ra: f32, tc_mm: f32) -> f32 {
         let op = Operating::new(&self.est.coeffs, self.est.mode, rr, tc_mm);
-        let f: AverageForces = op.forces(&self.est.coeffs, &self.est.tool, tc_mm, ra);
+        // `F_ax` and `F_at` as `Operating::forces` gives them (the same expressions),
+        // without the axial force and its `r2` power law.
+        let s = op.force_scale_n(&self.est.coeffs, &self.est.tool, tc_mm) * ra;
+        let f = AverageForces {
+            ft_n: s * op.arc.c,
+            fx_n: s * (op.arc.a + op.r1 * op.arc.b),
+            ..AverageForces::default()
+        };
         // The monitor's second force is F_at (motor) or F_ay (dynamometer); the motor
         // route is the product's, and for the resultant the difference is second order.
         self.signal(f.fx_n, f.ft_n).abs()
     }
 
     /// Feeds one record.
+    #[inline(always)]
     pub fn process(&self, st: &mut AlarmState, rec: &ToothRecord) -> AlarmOutput {
-        self.process_with(st, rec, &mut NoProbe)
+        self.process_with(st, rec, None, &mut NoProbe)
     }
 
     /// [`Self::process`], telling `probe` where each stage ends (for the instruction-count
@@ -477,14 +526,20 @@ impl Alarms {
         rec: &ToothRecord,
         probe: &mut P,
     ) -> AlarmOutput {
-        self.process_with(st, rec, probe)
+        self.process_with(st, rec, None, probe)
     }
 
-    #[inline(always)]
+    /// Never inlined: one copy serves `process` and `Pipeline::process`.
+    ///
+    /// `model_n`: eq. 7's `[F_ax, F_at]` at `rec`'s own estimate (`R_r`, `R_a`, filtered
+    /// `t_c`), when the caller has it (the pipeline: the estimator computed it); used only
+    /// for a valid record, where it is exactly what `model_signal` would recompute.
+    #[inline(never)]
     pub(crate) fn process_with<P: Probe>(
         &self,
         st: &mut AlarmState,
         rec: &ToothRecord,
+        model_n: Option<[f32; 2]>,
         probe: &mut P,
     ) -> AlarmOutput {
         let n = self.n;
@@ -493,7 +548,8 @@ impl Alarms {
         let f = if f.is_finite() { f } else { 0.0 };
         // A lost or swallowed tooth breaks the tooth alignment the detector relies on.
         if rec.status.contains(Status::PERIOD_INVALID) || rec.status.contains(Status::NO_SYNC) {
-            st.hist = [Tooth::default(); HISTORY];
+            // Forgets every tooth (none is armed any more).
+            st.armed = 0;
             st.exceed_pos = 0;
             st.exceed_neg = 0;
         }
@@ -503,32 +559,32 @@ impl Alarms {
         if rec.status.contains(Status::NOT_CUTTING) && !self.gone_candidate(st, rec) {
             st.held = None;
         }
-        st.hist[st.head % HISTORY] = Tooth {
-            f_n: f,
-            tooth: rec.tooth,
-            armed,
-        };
-        st.head = (st.head + 1) % HISTORY;
+        let head = st.head & (HISTORY - 1);
+        if let Some(slot) = st.hist_f.get_mut(head) {
+            *slot = f;
+        }
+        if let Some(slot) = st.hist_tooth.get_mut(head) {
+            *slot = rec.tooth;
+        }
+        st.head = (head + 1) & (HISTORY - 1);
+        st.armed = (st.armed << 1) | armed as u64;
         st.exceed_pos <<= 1;
         st.exceed_neg <<= 1;
         probe.mark(Stage::AlarmHistory);
 
-        let mut raised: Option<AlarmEvent> = None;
+        // The first alarm raised: cause, value, threshold (the event, with its copy of the
+        // record, is made once at the end).
+        let mut raised: Option<(Cause, f32, f32)> = None;
         let mut raise = |cause, value, threshold| {
             if raised.is_none() {
-                raised = Some(AlarmEvent {
-                    cause,
-                    value,
-                    threshold,
-                    record: *rec,
-                });
+                raised = Some((cause, value, threshold));
             }
         };
 
-        // Revolution mean of the watched force (runout-free), when the last N are armed.
-        let rev_mean = (0..n)
-            .all(|k| st.back(k).armed)
-            .then(|| (0..n).map(|k| st.back(k).f_n).sum::<f32>() / n as f32);
+        // Revolution mean of the watched force (runout-free), when the last N are armed
+        // (summed newest first, from -0 as `Sum` does), and, when the last 2N are, the
+        // change of that mean from the revolution before (`revolution_change`): one walk.
+        let (rev_mean, rev_change) = self.revolution_means(st);
         probe.mark(Stage::AlarmRevMean);
 
         // --- breakage ---------------------------------------------------------------
@@ -541,27 +597,59 @@ impl Alarms {
             if let Some(e) = self.first_difference_change(st) {
                 let k = self.cfg.breakage.threshold_rel;
                 let measured = rev_mean.unwrap_or(f);
+                // While the engagement changes (an entry), flutes of unequal chip (runout)
+                // grow at unequal rates and E swings both ways too, by at most the runout's
+                // share of the growth per revolution: the threshold widens by that growth.
+                // A breakage keeps the revolution total, so its own threshold barely moves.
+                // Without two whole armed revolutions (just after an entry) there is no
+                // growth figure: no decision yet.
+                let common = rev_change.map_or(f32::INFINITY, f32::abs);
+                // Noise floor: E's own running spread (each tooth's contribution clipped at
+                // the threshold, so that a breakage cannot raise it). Light cuts, where a
+                // sensor's noise is large against the force, would otherwise alarm on it.
+                // The spread is updated after the decision, and not by an exceedance.
+                let e_var = st.e_var;
+                let clip = k * measured;
+                let mut exceeded = false;
+                let settled = st.e_count as usize >= 2 * n;
                 // Cheap screen first: the model threshold is only needed near the limit.
-                if e.abs() > 0.5 * k * measured {
-                    let expected = match st.held {
-                        Some((rr, ra)) => self.model_signal(rr, ra, rec.tc_mm),
-                        None => measured,
-                    };
-                    let threshold = k * expected;
-                    if e.abs() > threshold {
-                        if e > 0.0 {
-                            st.exceed_pos |= 1;
-                        } else {
-                            st.exceed_neg |= 1;
-                        }
-                        let mask = if n >= 32 { u32::MAX } else { (1u32 << n) - 1 };
-                        let (pos, neg) = (st.exceed_pos & mask, st.exceed_neg & mask);
-                        let count = (pos | neg).count_ones();
-                        if pos != 0 && neg != 0 && count >= self.cfg.breakage.debounce_teeth as u32
-                        {
-                            raise(Cause::Breakage, e.abs(), threshold);
+                // `max(screen, floor) >= screen`, so within `screen + common` the screen
+                // fails whatever the floor: its square root is taken only past that.
+                let screen = 0.5 * k * measured;
+                // Not `>`: with a NaN (absurd forces) the full test below decides, as it
+                // would without the shortcut.
+                #[allow(clippy::neg_cmp_op_on_partial_ord)]
+                let past_screen = !(e.abs() <= screen + common);
+                if settled && past_screen {
+                    let floor = E_SIGMAS * libm::sqrtf(e_var);
+                    if e.abs() > crate::fmath::max(screen, floor) + common {
+                        let expected = match st.held {
+                            Some((rr, ra)) => self.model_signal(rr, ra, rec.tc_mm),
+                            None => measured,
+                        };
+                        let threshold = crate::fmath::max(k * expected, floor) + common;
+                        if e.abs() > threshold {
+                            exceeded = true;
+                            if e > 0.0 {
+                                st.exceed_pos |= 1;
+                            } else {
+                                st.exceed_neg |= 1;
+                            }
+                            let mask = if n >= 32 { u32::MAX } else { (1u32 << n) - 1 };
+                            let (pos, neg) = (st.exceed_pos & mask, st.exceed_neg & mask);
+                            let count = (pos | neg).count_ones();
+                            if pos != 0
+                                && neg != 0
+                                && count >= self.cfg.breakage.debounce_teeth as u32
+                            {
+                                raise(Cause::Breakage, e.abs(), threshold);
+                            }
                         }
                     }
+                }
+                if !exceeded {
+                    st.e_var += E_ALPHA * (crate::fmath::min(e * e, clip * clip) - st.e_var);
+                    st.e_count = st.e_count.saturating_add(1);
                 }
             }
         }
@@ -569,7 +657,13 @@ impl Alarms {
         probe.mark(Stage::AlarmBreakage);
 
         // --- tool gone ----------------------------------------------------------------
-        let steady = armed && !rec.status.contains(Status::TRANSIENT) && st.held.is_some();
+        // Steady: no transient for two revolutions (an exit flags some of its teeth, not all).
+        if rec.status.contains(Status::TRANSIENT) {
+            st.since_transient = 0;
+        } else {
+            st.since_transient = st.since_transient.saturating_add(1);
+        }
+        let steady = armed && st.since_transient > 2 * n as u32 && st.held.is_some();
         // The recent peak decays over about 50 teeth: an exit from the part lowers the force
         // over revolutions, so its last steady force is far below the peak of the moments
         // before; a tool lost mid-cut goes from full force to nothing.
@@ -577,7 +671,7 @@ impl Alarms {
         if steady {
             st.since_steady = 0;
             st.steady_force_n = rev_mean.unwrap_or(f);
-            st.peak_force_n = st.peak_force_n.max(st.steady_force_n);
+            st.peak_force_n = crate::fmath::max(st.peak_force_n, st.steady_force_n);
         } else {
             st.since_steady = st.since_steady.saturating_add(1);
         }
@@ -595,9 +689,10 @@ impl Alarms {
             let cached = libm::fabsf(rec.tc_mm - st.limit_tc_mm) <= 0.01 * rec.tc_mm;
             if !cached {
                 st.limit_tc_mm = rec.tc_mm;
-                st.limit_n = self
-                    .model_signal(o.max_rr, o.max_ra, rec.tc_mm)
-                    .min(o.force_limit_n);
+                st.limit_n = crate::fmath::min(
+                    self.model_signal(o.max_rr, o.max_ra, rec.tc_mm),
+                    o.force_limit_n,
+                );
             }
             if mean > st.limit_n {
                 st.overload_run = st.overload_run.saturating_add(1);
@@ -640,14 +735,18 @@ impl Alarms {
         probe.mark(Stage::AlarmTeach);
 
         // --- wear (EWRLS, one parameter) --------------------------------------------
+        // Value and threshold of a wear warning raised by this record.
         let mut wear_event = None;
         // Wear is slow: one update per revolution is plenty and keeps eq. 7 off most teeth.
         if self.cfg.drift.enabled && rec.status.is_valid() && rec.tooth == 0 {
-            let (rr, ra) = match self.cfg.drift.reference {
-                DriftReference::Estimated => (rec.rr, rec.ra),
-                DriftReference::Known { rr, ra } => (rr, ra),
+            let phi = match (self.cfg.drift.reference, model_n) {
+                // The estimator's eq. 7 at this very estimate: no second evaluation.
+                (DriftReference::Estimated, Some([fx, ft])) => self.signal(fx, ft).abs(),
+                (DriftReference::Estimated, None) => {
+                    self.model_signal(rec.rr, rec.ra, rec.tc_filt_mm)
+                }
+                (DriftReference::Known { rr, ra }, _) => self.model_signal(rr, ra, rec.tc_filt_mm),
             };
-            let phi = self.model_signal(rr, ra, rec.tc_filt_mm);
             let y = self.signal(rec.fx_filt_n, rec.f2_filt_n).abs();
             if phi > 0.0 && phi.is_finite() && y.is_finite() {
                 // Regressor scaled to order one so that P stays well conditioned in f32.
@@ -659,48 +758,113 @@ impl Alarms {
             }
             let warn = st.theta > self.cfg.drift.warn_multiplier;
             if warn && !st.wear_warned {
-                wear_event = Some(AlarmEvent {
-                    cause: Cause::Wear,
-                    value: st.theta,
-                    threshold: self.cfg.drift.warn_multiplier,
-                    record: *rec,
-                });
+                wear_event = Some((st.theta, self.cfg.drift.warn_multiplier));
             }
             st.wear_warned = warn;
         }
 
         probe.mark(Stage::AlarmWear);
 
-        let mut event = None;
-        if let (None, Some(e)) = (st.latched, raised) {
-            st.latched = Some(e);
-            event = Some(e);
+        // Built by one struct expression, straight into the caller's place (an
+        // `AlarmOutput` is 96 bytes: built in a local and returned, it is copied by a
+        // `memcpy` call).
+        if raised.is_none() && wear_event.is_none() {
+            return AlarmOutput {
+                event: None,
+                latched: st.latched.is_some(),
+                wear: st.theta,
+                wear_warning: st.wear_warned,
+            };
         }
-        let out = AlarmOutput {
-            event: event.or(wear_event),
+        Self::output_with_event(st, rec, raised, wear_event)
+    }
+
+    /// The output of a record that raised an alarm or the wear warning (rare: out of the
+    /// way of the common path).
+    #[cold]
+    #[inline(never)]
+    fn output_with_event(
+        st: &mut AlarmState,
+        rec: &ToothRecord,
+        raised: Option<(Cause, f32, f32)>,
+        wear_event: Option<(f32, f32)>,
+    ) -> AlarmOutput {
+        let event = match (st.latched.is_none(), raised, wear_event) {
+            (true, Some((cause, value, threshold)), _) => {
+                let e = AlarmEvent {
+                    cause,
+                    value,
+                    threshold,
+                    record: *rec,
+                };
+                st.latched = Some(e);
+                Some(e)
+            }
+            (_, _, Some((value, threshold))) => Some(AlarmEvent {
+                cause: Cause::Wear,
+                value,
+                threshold,
+                record: *rec,
+            }),
+            _ => None,
+        };
+        AlarmOutput {
+            event,
             latched: st.latched.is_some(),
             wear: st.theta,
             wear_warning: st.wear_warned,
-        };
-        probe.mark(Stage::AlarmOutput);
-        out
+        }
+    }
+
+    /// `(mean of the newest revolution, newest revolution mean minus the one before)` of
+    /// the watched force: the first when the last `N` teeth are armed, the second when the
+    /// last `2N` are. Sums in the order of the definitions: `sum_k F_k` from -0 (`Sum`),
+    /// `sum_k (F_k - F_{k+N})` from 0, `k` newest first.
+    #[inline(always)]
+    fn revolution_means(&self, st: &AlarmState) -> (Option<f32>, Option<f32>) {
+        let n = self.n;
+        let inv = n as f32;
+        if st.armed & self.armed_two_revs == self.armed_two_revs {
+            let (mut sum, mut d) = (-0.0f32, 0.0f32);
+            let (mut i, mut j) = (st.slot(0), st.slot(n));
+            for _ in 0..n {
+                let a = st.hist_f.get(i).copied().unwrap_or(0.0);
+                let b = st.hist_f.get(j).copied().unwrap_or(0.0);
+                sum += a;
+                d += a - b;
+                i = i.wrapping_sub(1) & (HISTORY - 1);
+                j = j.wrapping_sub(1) & (HISTORY - 1);
+            }
+            (Some(sum / inv), Some(d / inv))
+        } else if st.armed & self.armed_rev == self.armed_rev {
+            let mut sum = -0.0f32;
+            let mut i = st.slot(0);
+            for _ in 0..n {
+                sum += st.hist_f.get(i).copied().unwrap_or(0.0);
+                i = i.wrapping_sub(1) & (HISTORY - 1);
+            }
+            (Some(sum / inv), None)
+        } else {
+            (None, None)
+        }
     }
 
     /// `E_i = D_i - D_{i-N}` for the newest tooth, when all four teeth it needs are armed
     /// and the tooth indices line up.
+    #[inline(always)]
     fn first_difference_change(&self, st: &AlarmState) -> Option<f32> {
         let n = self.n;
-        let (a, b, c, d) = (st.back(0), st.back(1), st.back(n), st.back(n + 1));
-        let ok =
-            a.armed && b.armed && c.armed && d.armed && a.tooth == c.tooth && b.tooth == d.tooth;
-        ok.then_some((a.f_n - b.f_n) - (c.f_n - d.f_n))
+        let ok = st.armed & self.armed_e == self.armed_e
+            && st.tooth(0) == st.tooth(n)
+            && st.tooth(1) == st.tooth(n + 1);
+        ok.then(|| (st.force(0) - st.force(1)) - (st.force(n) - st.force(n + 1)))
     }
 
     /// Whether `rec` is a force collapse right after a steady cut while feeding.
     fn gone_candidate(&self, st: &AlarmState, rec: &ToothRecord) -> bool {
         rec.status.contains(Status::NOT_CUTTING)
             && rec.tc_mm > 0.0
-            && st.since_steady <= self.cfg.tool_gone.max_drop_teeth as u32
+            && st.since_steady <= self.cfg.tool_gone.max_drop_revs as u32 * self.n as u32
             && st.steady_force_n > 3.0 * self.est.force_floor_n
             && st.steady_force_n >= 0.5 * st.peak_force_n
     }

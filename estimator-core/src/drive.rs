@@ -283,6 +283,7 @@ impl FeedDrive {
 
     /// Whether any axis in use moves faster than its stiction band (false for NaN).
     /// When false the feed direction, and so the feed force, is undefined: flag the tooth.
+    #[inline(always)]
     pub fn moving(&self, velocity_mm_min: [f32; 2]) -> bool {
         self.axes
             .iter()
@@ -298,17 +299,24 @@ impl FeedDrive {
         if !self.moving(velocity_mm_min) {
             return None;
         }
+        Some(self.unit(velocity_mm_min))
+    }
+
+    /// The direction of a velocity known to be [`Self::moving`].
+    #[inline]
+    fn unit(&self, velocity_mm_min: [f32; 2]) -> [f32; 2] {
         let [vx, vy] = velocity_mm_min;
         if self.two_axis {
             // moving() guarantees a non-zero component, so the norm is > 0.
             let s = crate::fmath::hypot(vx, vy);
-            Some([vx / s, vy / s])
+            [vx / s, vy / s]
         } else {
-            Some([if vx > 0.0 { 1.0 } else { -1.0 }, 0.0])
+            [if vx > 0.0 { 1.0 } else { -1.0 }, 0.0]
         }
     }
 
     /// Cutting load per axis [N] ([`FeedAxis::cutting_load_n`]); 0 for Y when one-axis.
+    #[inline(always)]
     pub fn axis_loads_n(&self, current_a: [f32; 2], velocity_mm_min: [f32; 2]) -> [f32; 2] {
         let y = if self.two_axis {
             self.axes[1].cutting_load_n(current_a[1], velocity_mm_min[1])
@@ -325,14 +333,28 @@ impl FeedDrive {
     /// the cutting load projected on the feed direction, positive when it resists the
     /// feed. 0 when not [`Self::moving`] (NaN if that is because a velocity is NaN).
     pub fn feed_force_n(&self, current_a: [f32; 2], velocity_mm_min: [f32; 2]) -> f32 {
-        match self.direction(velocity_mm_min) {
-            Some(u) => {
-                let f = self.axis_loads_n(current_a, velocity_mm_min);
-                u[0] * f[0] + u[1] * f[1]
-            }
-            None if velocity_mm_min[..self.used()].iter().any(|v| v.is_nan()) => f32::NAN,
-            None => 0.0,
-        }
+        self.feed_force_and_moving(current_a, velocity_mm_min).0
+    }
+
+    /// [`Self::feed_force_n`] and [`Self::moving`] together (the monitor needs both once
+    /// per tooth; `moving` is then evaluated once).
+    #[inline(always)]
+    pub fn feed_force_and_moving(
+        &self,
+        current_a: [f32; 2],
+        velocity_mm_min: [f32; 2],
+    ) -> (f32, bool) {
+        let moving = self.moving(velocity_mm_min);
+        let force = if moving {
+            let u = self.unit(velocity_mm_min);
+            let f = self.axis_loads_n(current_a, velocity_mm_min);
+            u[0] * f[0] + u[1] * f[1]
+        } else if velocity_mm_min[..self.used()].iter().any(|v| v.is_nan()) {
+            f32::NAN
+        } else {
+            0.0
+        };
+        (force, moving)
     }
 
     /// Inverse of [`Self::axis_loads_n`] for host-sim: motor currents [A] for cutting
@@ -551,6 +573,7 @@ impl SpindleModel {
     /// Tangential force `F_t` [N] from the per-tooth mean spindle signal (load [%] or
     /// current [A]) at `rpm`, for a tool of `radius_mm`. Plain arithmetic: NaN or infinite
     /// for NaN input, 0 rpm or 0 radius.
+    #[inline(always)]
     pub fn tangential_force_n(&self, mean_value: f32, rpm: f32, radius_mm: f32) -> f32 {
         let idle = self.idle_signal(rpm);
         match self {

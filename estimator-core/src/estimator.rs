@@ -15,7 +15,7 @@
 //! every outcome is a finite number with a [`Status`].
 
 use crate::coefficients::{CuttingCoefficients, TABLE2};
-use crate::forward::{Operating, Slopes};
+use crate::forward::Operating;
 use crate::geometry::{MillingMode, Tool, RA_MAX, RR_MAX, RR_MIN};
 use crate::invert::{invert, Ratio};
 use crate::poly::FxtPoly;
@@ -205,15 +205,43 @@ impl Estimator {
     /// Same, with the 1-sigma scatter `[of F_ax, of the other force]` [N] of the averages,
     /// propagated to first order through the model (`sigma_R = sigma_f / |df/dR|`).
     pub fn estimate_with_scatter(&self, tc_mm: f32, m: Measured, sigma_n: [f32; 2]) -> Estimate {
+        self.estimate_with_variance(
+            tc_mm,
+            m,
+            sigma_n.map(|s| if s.is_finite() { s * s } else { 0.0 }),
+        )
+    }
+
+    /// [`Self::estimate_with_scatter`] with the scatter given as variances `[of F_ax, of the
+    /// other force]` [N^2] (what the monitor's filter computes: no square root taken for
+    /// it). A negative or non-finite variance counts as 0.
+    pub fn estimate_with_variance(&self, tc_mm: f32, m: Measured, var_n2: [f32; 2]) -> Estimate {
+        self.estimate_with_model(tc_mm, m, var_n2).0
+    }
+
+    /// [`Self::estimate_with_variance`], and eq. 7's `[F_ax, F_at]` at the estimate
+    /// (`[0, 0]` when there is none): the forces the wear tracker compares with, computed
+    /// here from the model terms the estimate already has, exactly as
+    /// `Operating::forces` would compute them at the estimate's `R_r`, `R_a` and `t_c`.
+    /// Not inlined: the monitor's per-tooth function is large enough already (inlined
+    /// there, register pressure costs more than the call saves).
+    #[inline(never)]
+    pub(crate) fn estimate_with_model(
+        &self,
+        tc_mm: f32,
+        m: Measured,
+        var_n2: [f32; 2],
+    ) -> (Estimate, [f32; 2]) {
         let (fx, other) = match m {
             Measured::Motor { fx_n, ft_n } => (fx_n, ft_n),
             Measured::Dynamometer { fx_n, fy_n } => (fx_n, fy_n),
         };
         if !(tc_mm.is_finite() && fx.is_finite() && other.is_finite()) || tc_mm <= 0.0 {
-            return Estimate {
+            let e = Estimate {
                 status: Status::NON_FINITE,
                 ..Estimate::default()
             };
+            return (e, [0.0; 2]);
         }
         let (ratio, magnitude) = match m {
             Measured::Motor { ft_n, .. } => (Ratio::Fxt, ft_n),
@@ -223,10 +251,11 @@ impl Estimator {
         // counts as not cutting.
         let cutting = magnitude > self.cfg.force_floor_n && magnitude > 0.0;
         if !cutting {
-            return Estimate {
+            let e = Estimate {
                 status: Status::NOT_CUTTING,
                 ..Estimate::default()
             };
+            return (e, [0.0; 2]);
         }
         let f = fx / magnitude;
         let mut status = Status::VALID;
@@ -243,14 +272,18 @@ impl Estimator {
         );
         let (mut rr, mut method) = self.solve_rr(ratio, f, tc_mm, &mut status);
         let mut op = Operating::new(coeffs, self.cfg.mode, rr, tc_mm);
-        let mut slopes = op.slopes(coeffs, self.cfg.mode);
+        // The slopes the propagation needs: on the motor route `d f_xt / d R_r` (which the
+        // polynomial check needs too) and `d ln F_at / d R_r` alone, without the
+        // resultant's square root.
+        let mut fxt_slopes = None;
         if method == Method::Polynomial {
             // The exact model checks the polynomial on every call, at the price of a few
             // multiplications (`op` is needed for R_a anyway): one Newton step's worth of
             // disagreement beyond the fit's own error means the point lies outside the
             // fitted domain (e.g. a ratio no immersion gives at this t_c).
+            let (dfxt_drr, dln_t_drr) = op.slopes_fxt(coeffs, self.cfg.mode);
             let f_model = op.ratio_fxt();
-            let newton_step = (f - f_model) / slopes.dfxt_drr;
+            let newton_step = (f - f_model) / dfxt_drr;
             // At the slot (where the result was clamped) the ratio must not pass the slot's.
             let beyond_slot = rr >= RR_MAX
                 && match self.cfg.mode {
@@ -260,12 +293,13 @@ impl Estimator {
             status.set_if(beyond_slot, Status::RR_CLAMPED);
             // (A NaN step fails the comparison: fall back then too.)
             let trusted = newton_step.abs() <= POLY_CHECK_REL * rr + POLY_CHECK_ABS;
-            if !trusted {
+            if trusted {
+                fxt_slopes = Some((dfxt_drr, dln_t_drr));
+            } else {
                 let inv = invert(coeffs, self.cfg.mode, ratio, f, tc_mm);
                 status |= inv.status;
                 (rr, method) = (inv.rr, Method::Inversion);
                 op = Operating::new(coeffs, self.cfg.mode, rr, tc_mm);
-                slopes = op.slopes(coeffs, self.cfg.mode);
             }
         }
         let scale = op.force_scale_n(coeffs, &self.cfg.tool, tc_mm);
@@ -279,9 +313,20 @@ impl Estimator {
             status |= Status::RA_CLAMPED;
             ra = if ra > 0.0 { RA_MAX } else { 0.0 };
         }
-        let (rr_sigma, ra_sigma) = self.propagate(&slopes, m, f, magnitude, sigma_n, ra);
+        // (d f / d R_r, d ln(force per unit R_a) / d R_r) of the route's ratio and magnitude.
+        let (df_drr, dln_per_ra) = match ratio {
+            Ratio::Fxt => fxt_slopes.unwrap_or_else(|| op.slopes_fxt(coeffs, self.cfg.mode)),
+            Ratio::Fx => {
+                let s = op.slopes(coeffs, self.cfg.mode);
+                (s.dfx_drr, s.dln_resultant_drr)
+            }
+        };
+        let (rr_sigma, ra_sigma) = self.propagate(df_drr, dln_per_ra, m, f, magnitude, var_n2, ra);
         let r = self.cfg.tool.radius_mm;
-        Estimate {
+        // `Operating::forces(..., ra)`: `s = K' R_a`, `F_ax = s (a + r1 b)`, `F_at = s c`.
+        let s = scale * ra;
+        let model = [s * (op.arc.a + op.r1 * op.arc.b), s * op.arc.c];
+        let e = Estimate {
             rr,
             ra,
             dr_mm: rr * r,
@@ -295,33 +340,33 @@ impl Estimator {
             },
             status,
             method,
-        }
+        };
+        (e, model)
     }
 
-    /// First-order propagation of force scatter and gain uncertainty into `(sigma_R_r,
-    /// sigma_R_a)`: independent errors on the two channels, exact Jacobian (checked against
-    /// Monte Carlo in the tests).
+    /// First-order propagation of force scatter (variances `var_n2`) and gain uncertainty
+    /// into `(sigma_R_r, sigma_R_a)`: independent errors on the two channels, exact
+    /// Jacobian (checked against Monte Carlo in the tests). `df_drr`, `dln_per_ra`: slopes
+    /// of the route's ratio and of its force per unit `R_a` (see
+    /// [`Slopes`](crate::forward::Slopes)).
+    #[allow(clippy::too_many_arguments)]
     fn propagate(
         &self,
-        slopes: &Slopes,
+        df_drr: f32,
+        dln_per_ra: f32,
         m: Measured,
         f: f32,
         magnitude: f32,
-        sigma_n: [f32; 2],
+        var_n2: [f32; 2],
         ra: f32,
     ) -> (f32, f32) {
         let g = self.cfg.gain_uncertainty;
-        let [s0, s1] = sigma_n.map(|s| if s.is_finite() { s.abs() } else { 0.0 });
+        // (`w > 0` and finite: `0 < w < inf`, NaN fails both.)
+        let usable = |w: f32| if w > 0.0 && w < f32::INFINITY { w } else { 0.0 };
+        let (w0, w1) = (usable(var_n2[0]), usable(var_n2[1]));
         // Partial derivatives of the ratio and the magnitude with respect to both channels.
-        let (df_d0, df_d1, dm_d0, dm_d1, dln_per_ra, df_drr) = match m {
-            Measured::Motor { ft_n, .. } => (
-                1.0 / ft_n,
-                -f / ft_n,
-                0.0,
-                1.0,
-                slopes.dln_tangential_drr,
-                slopes.dfxt_drr,
-            ),
+        let (df_d0, df_d1, dm_d0, dm_d1) = match m {
+            Measured::Motor { ft_n, .. } => (1.0 / ft_n, -f / ft_n, 0.0, 1.0),
             Measured::Dynamometer { fx_n, fy_n } => {
                 let m3 = magnitude * magnitude * magnitude;
                 (
@@ -329,8 +374,6 @@ impl Estimator {
                     -fx_n * fy_n / m3,
                     fx_n / magnitude,
                     fy_n / magnitude,
-                    slopes.dln_resultant_drr,
-                    slopes.dfx_drr,
                 )
             }
         };
@@ -338,16 +381,20 @@ impl Estimator {
             Measured::Motor { fx_n, ft_n } => (fx_n, ft_n),
             Measured::Dynamometer { fx_n, fy_n } => (fx_n, fy_n),
         };
-        // Each channel's total 1-sigma: scatter and gain error in quadrature.
-        let e0 = crate::fmath::hypot(s0, g * v0);
-        let e1 = crate::fmath::hypot(s1, g * v1);
-        let sigma_f = crate::fmath::hypot(df_d0 * e0, df_d1 * e1);
+        // Each channel's total variance: scatter and gain error added.
+        let (gv0, gv1) = (g * v0, g * v1);
+        let q0 = w0 + gv0 * gv0;
+        let q1 = w1 + gv1 * gv1;
+        let sigma_f = norm(df_d0, q0, df_d1, q1);
         // dR/df; a flat ratio (turning point, or NaN at a degenerate point) identifies
         // nothing, an infinite slope (slot) pins R_r.
         let (rr_sigma, dr_df) = if df_drr.is_infinite() {
             (0.0, 0.0)
         } else if df_drr.abs() > 0.0 {
-            ((sigma_f / df_drr.abs()).min(RR_MAX), 1.0 / df_drr)
+            (
+                crate::fmath::min(sigma_f / df_drr.abs(), RR_MAX),
+                1.0 / df_drr,
+            )
         } else {
             (RR_MAX, 0.0)
         };
@@ -360,7 +407,7 @@ impl Estimator {
         };
         let d0 = dm_d0 / magnitude - k * df_d0;
         let d1 = dm_d1 / magnitude - k * df_d1;
-        let ra_sigma = ra * crate::fmath::hypot(d0 * e0, d1 * e1);
+        let ra_sigma = ra * norm(d0, q0, d1, q1);
         let finite_or = |v: f32, alt: f32| if v.is_finite() { v } else { alt };
         (finite_or(rr_sigma, RR_MAX), finite_or(ra_sigma, RA_MAX))
     }
@@ -387,6 +434,22 @@ impl Estimator {
         let inv = invert(&cfg.coeffs, cfg.mode, ratio, f, tc_mm);
         *status |= inv.status;
         (inv.rr, Method::Inversion)
+    }
+}
+
+/// `sqrt(x0^2 q0 + x1^2 q1)` for variances `q0, q1 >= 0`: the norm of `(x0 sigma0, x1
+/// sigma1)` with one square root instead of three. Where the sum leaves the range in which
+/// it is accurate (far beyond any force), the same from the standard deviations.
+#[inline]
+fn norm(x0: f32, q0: f32, x1: f32, q1: f32) -> f32 {
+    let s = x0 * x0 * q0 + x1 * x1 * q1;
+    if (1e-30..=1e30).contains(&s) {
+        libm::sqrtf(s)
+    } else if q0 == 0.0 && q1 == 0.0 && (x0 * 0.0 + x1 * 0.0) == 0.0 {
+        // No scatter (finite `x`): `hypot(x0 * sqrt(0), x1 * sqrt(0))` is 0.
+        0.0
+    } else {
+        crate::fmath::hypot(x0 * libm::sqrtf(q0), x1 * libm::sqrtf(q1))
     }
 }
 

@@ -124,9 +124,36 @@ impl Operating {
     /// With `u` the engaged arc: `du/dR = 1/sin u`, `d ln t_a / dR = 1/R - 1/(u sin u)`,
     /// `dr1/dR = p1 r1 d ln t_a/dR`, `da/dR = +-(R - 1)`, `db/dR = sin u`, `dc/dR = 1`.
     /// At the slot `sin u = 0` and the slopes of `f` are infinite; returned as is.
+    /// `sin u` is `|cos_int|` of the arc integrals (`-sin u` down, `sin u` up).
     pub fn slopes(&self, coeffs: &CuttingCoefficients, mode: MillingMode) -> Slopes {
+        let t = self.slope_terms(coeffs, mode);
+        let (a, b, r1) = (self.arc.a, self.arc.b, self.r1);
+        let q = a * a + b * b;
+        let dln_res = r1 * t.dr1 / (1.0 + r1 * r1) + (a * t.da + b * t.db) / q;
+        let res = self.resultant();
+        let dfx = (t.dn - t.n * dln_res) / res;
+        Slopes {
+            dfxt_drr: t.dfxt,
+            dfx_drr: dfx,
+            dln_tangential_drr: t.dln_ks + 1.0 / self.arc.c,
+            dln_resultant_drr: t.dln_ks + dln_res,
+        }
+    }
+
+    /// The two slopes the motor route needs, `(d f_xt / d R_r, d ln(F_at / R_a) / d R_r)`:
+    /// the same values as [`Self::slopes`] gives, without the resultant's square root.
+    #[inline]
+    pub fn slopes_fxt(&self, coeffs: &CuttingCoefficients, mode: MillingMode) -> (f32, f32) {
+        let t = self.slope_terms(coeffs, mode);
+        (t.dfxt, t.dln_ks + 1.0 / self.arc.c)
+    }
+
+    /// What both slope sets share.
+    #[inline(always)]
+    fn slope_terms(&self, coeffs: &CuttingCoefficients, mode: MillingMode) -> SlopeTerms {
         let (a, b, c, r1, u) = (self.arc.a, self.arc.b, self.arc.c, self.r1, self.arc.arc);
-        let sin_u = crate::geometry::arc_sin(c);
+        // = geometry::arc_sin(c), already taken by `ArcIntegrals::from_arc`.
+        let sin_u = self.arc.cos_int.abs();
         let dln_ta = 1.0 / c - 1.0 / (u * sin_u);
         let dr1 = coeffs.r1.p * r1 * dln_ta;
         let da = match mode {
@@ -136,19 +163,27 @@ impl Operating {
         let db = sin_u;
         let n = a + r1 * b;
         let dn = da + dr1 * b + r1 * db;
-        let dfxt = (dn * c - n) / (c * c);
-        let q = a * a + b * b;
-        let dln_res = r1 * dr1 / (1.0 + r1 * r1) + (a * da + b * db) / q;
-        let res = self.resultant();
-        let dfx = (dn - n * dln_res) / res;
-        let dln_ks = coeffs.ks.p * dln_ta;
-        Slopes {
-            dfxt_drr: dfxt,
-            dfx_drr: dfx,
-            dln_tangential_drr: dln_ks + 1.0 / c,
-            dln_resultant_drr: dln_ks + dln_res,
+        SlopeTerms {
+            dfxt: (dn * c - n) / (c * c),
+            dr1,
+            da,
+            db,
+            n,
+            dn,
+            dln_ks: coeffs.ks.p * dln_ta,
         }
     }
+}
+
+/// Intermediate terms of [`Operating::slopes`].
+struct SlopeTerms {
+    dfxt: f32,
+    dr1: f32,
+    da: f32,
+    db: f32,
+    n: f32,
+    dn: f32,
+    dln_ks: f32,
 }
 
 /// See [`Operating::slopes`].

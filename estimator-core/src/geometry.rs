@@ -114,7 +114,7 @@ fn x_minus_sin_small(x: f32) -> f32 {
 /// `sinf` costs ~1 300 instructions on the Cortex-M4F, see [`crate::fmath`]).
 #[inline]
 pub fn arc_sin(rr: f32) -> f32 {
-    libm::sqrtf((rr * (2.0 - rr)).max(0.0))
+    libm::sqrtf(crate::fmath::max(rr * (2.0 - rr), 0.0))
 }
 
 /// The integrals over the engaged arc behind eq. 7, without the factor

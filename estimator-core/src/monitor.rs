@@ -32,6 +32,8 @@ use crate::ConfigError;
 /// revolutions): 64 teeth of three floats, under 1 KiB of state.
 pub const MAX_WINDOW: usize = 64;
 const _: () = assert!(MAX_WINDOW.is_power_of_two());
+/// Most flutes the not-cutting decision averages over.
+const MAX_REV_TEETH: usize = 32;
 
 /// Cosine of the largest turn of the feed direction between two teeth that is not a
 /// feed change (about 3 degrees: an arc of 20 mm radius at 250 mm/min turns 0.3 degrees
@@ -189,6 +191,7 @@ impl MonitorConfig {
             timing,
             window,
             settle: window.max(2 * n),
+            clip_any: self.clip.iter().any(|c| *c < f32::INFINITY),
             inv_flutes: 1.0 / n as f32,
             inv_revs: 1.0 / self.filter_revs as f32,
             cfg: self,
@@ -302,6 +305,19 @@ struct Blocks {
     var: [f32; 2],
 }
 
+/// A tooth's means converted, for [`Monitor::judge`].
+struct Means {
+    tc_mm: f32,
+    fx_n: f32,
+    f2_n: f32,
+    /// All four above are finite.
+    all_finite: bool,
+    /// Feed speed [mm/min] and velocity.
+    speed: f32,
+    v: [f32; 2],
+    moving: bool,
+}
+
 /// One valid tooth in the filter window.
 #[derive(Clone, Copy, Debug, Default)]
 struct Entry {
@@ -310,11 +326,15 @@ struct Entry {
     tc_mm: f32,
 }
 
-/// Running state of a [`Monitor`]: about 1 KiB, no heap.
+/// Running state of a [`Monitor`]: about 1.6 KiB, no heap.
 #[derive(Clone, Debug)]
 pub struct MonitorState {
     tooth: ToothState,
     ring: [Entry; MAX_WINDOW],
+    /// `rev[i]`: mean of the revolution (`flutes` entries) ending at `ring[i]`, newest
+    /// first, made when `ring[i]` was stored. A revolution that reaches back before the
+    /// last reset holds stale entries; `blocks` reads only revolutions that do not.
+    rev: [Entry; MAX_WINDOW],
     /// Next write position.
     head: usize,
     /// Valid entries (saturates at MAX_WINDOW).
@@ -323,10 +343,16 @@ pub struct MonitorState {
     settle: usize,
     /// Feed direction (unit vector) of the last valid tooth.
     dir: [f32; 2],
+    /// The last revolution's per-tooth force magnitudes (cutting or not), for the
+    /// not-cutting decision.
+    mags: [f32; MAX_REV_TEETH],
+    mag_head: usize,
     /// Running variance of same-flute force differences less their common part [N^2].
     noise_var: f32,
     /// Mean feed per tooth of the newest revolution after the last tooth.
     last_rev_tc_mm: f32,
+    /// Eq. 7's `[F_ax, F_at]` at the last estimate (see `Estimator::estimate_with_model`).
+    model_n: [f32; 2],
     /// Last filtered output (kept through invalid periods, for display).
     fx_filt_n: f32,
     f2_filt_n: f32,
@@ -338,11 +364,15 @@ impl Default for MonitorState {
         MonitorState {
             tooth: ToothState::default(),
             ring: [Entry::default(); MAX_WINDOW],
+            rev: [Entry::default(); MAX_WINDOW],
             head: 0,
             len: 0,
             settle: 0,
             dir: [0.0; 2],
+            mags: [0.0; MAX_REV_TEETH],
+            mag_head: 0,
             noise_var: 0.0,
+            model_n: [0.0; 2],
             last_rev_tc_mm: 0.0,
             fx_filt_n: 0.0,
             f2_filt_n: 0.0,
@@ -352,6 +382,12 @@ impl Default for MonitorState {
 }
 
 impl MonitorState {
+    /// Eq. 7's `[F_ax, F_at]` at the estimate of the last record that has one.
+    #[inline(always)]
+    pub(crate) fn model_n(&self) -> [f32; 2] {
+        self.model_n
+    }
+
     /// The `k`-th most recent entry (0 = newest); `k < len`.
     fn back(&self, k: usize) -> Entry {
         // MAX_WINDOW is a power of two: the wrap is a mask.
@@ -384,8 +420,10 @@ pub struct Monitor {
     est: Estimator,
     timing: Timing,
     window: usize,
-    /// Derived once: `settle_teeth()`, `1 / flutes`, `1 / filter_revs`.
+    /// Derived once: `settle_teeth()`, `1 / flutes`, `1 / filter_revs`, whether any clip
+    /// level is finite (with none, the per-sample clip test is left out).
     settle: usize,
+    clip_any: bool,
     inv_flutes: f32,
     inv_revs: f32,
 }
@@ -402,7 +440,10 @@ impl Monitor {
     }
 
     /// Feeds one sample; returns a record when a tooth period closes.
-    #[inline(always)]
+    ///
+    /// Not inlined, so that the record (72 bytes) is built straight into the caller's
+    /// variable (see `Pipeline::process`).
+    #[inline(never)]
     pub fn process(&self, st: &mut MonitorState, s: &Sample) -> Option<ToothRecord> {
         self.process_with(st, s, &mut NoProbe)
     }
@@ -410,6 +451,7 @@ impl Monitor {
     /// [`Self::process`], telling `probe` where each stage of a tooth update ends (for the
     /// instruction-count bench; see [`crate::probe`]).
     #[cfg(feature = "probe")]
+    #[inline(never)]
     pub fn process_probed<P: Probe>(
         &self,
         st: &mut MonitorState,
@@ -426,11 +468,13 @@ impl Monitor {
         s: &Sample,
         probe: &mut P,
     ) -> Option<ToothRecord> {
-        let p = self.period(st, s)?;
-        probe.mark(Stage::Period);
-        let rec = self.tooth(st, &p, probe);
-        probe.mark(Stage::Record);
-        Some(rec)
+        match self.period(st, s) {
+            None => None,
+            Some(p) => {
+                probe.mark(Stage::Period);
+                Some(self.tooth(st, &p, probe))
+            }
+        }
     }
 
     /// The per-sample part: the sample into the tooth averages; the period when one closes.
@@ -441,18 +485,48 @@ impl Monitor {
             FeedVelocity::Nominal(v) => v,
         };
         let x: [f32; CHANNELS] = [s.feed[0], s.feed[1], v[0], v[1], s.spindle];
-        self.timing.push(&mut st.tooth, &x, s.sync)
+        self.timing
+            .push_checked(&mut st.tooth, &x, s.sync, self.clip_any)
     }
 
     /// Everything that happens once per tooth period.
     ///
     /// Never inlined: it runs once per tooth, and keeping it out of line keeps the
     /// per-sample code around `process` small and the same in every program that links it.
+    /// The record is built by one struct expression at the end, straight into the caller's
+    /// place (a `ToothRecord` built in a local and then returned is copied by a `memcpy`
+    /// call, about a hundred instructions on the Cortex-M4).
     #[inline(never)]
     pub(crate) fn tooth<P: Probe>(
         &self,
         st: &mut MonitorState,
         p: &Period,
+        probe: &mut P,
+    ) -> ToothRecord {
+        self.tooth_record(st, p, None, probe)
+    }
+
+    /// [`Self::tooth`], also writing the record into `copy`: from the registers it is
+    /// computed in, the second copy costs a store per field, where copying the record
+    /// afterwards is a `memcpy` call (see `Pipeline::tooth_update`).
+    #[inline(never)]
+    pub(crate) fn tooth_and_copy<P: Probe>(
+        &self,
+        st: &mut MonitorState,
+        p: &Period,
+        copy: &mut ToothRecord,
+        probe: &mut P,
+    ) -> ToothRecord {
+        self.tooth_record(st, p, Some(copy), probe)
+    }
+
+    /// The body of [`Self::tooth`] and [`Self::tooth_and_copy`].
+    #[inline(always)]
+    fn tooth_record<P: Probe>(
+        &self,
+        st: &mut MonitorState,
+        p: &Period,
+        copy: Option<&mut ToothRecord>,
         probe: &mut P,
     ) -> ToothRecord {
         let n = self.cfg.estimator.tool.flutes as usize;
@@ -473,63 +547,158 @@ impl Monitor {
             }
             Input::Dynamometer => (m0, m1, speed > 0.0),
         };
-        let mut rec = ToothRecord {
-            end_sample: p.end_sample,
-            tooth: p.tooth,
-            samples: p.samples,
-            rpm: finite_or_zero(rpm),
-            tc_mm: finite_or_zero(tc_mm),
-            fx_n: finite_or_zero(fx_n),
-            f2_n: finite_or_zero(f2_n),
-            status: p.status,
-            ..ToothRecord::default()
-        };
         probe.mark(Stage::Forces);
-        let usable = p.status.is_valid()
-            && rpm.is_finite()
-            && tc_mm.is_finite()
-            && fx_n.is_finite()
-            && f2_n.is_finite();
+        let finite = [
+            rpm.is_finite(),
+            tc_mm.is_finite(),
+            fx_n.is_finite(),
+            f2_n.is_finite(),
+        ];
+        let means = Means {
+            tc_mm,
+            fx_n,
+            f2_n,
+            all_finite: finite == [true; 4],
+            speed,
+            v: [v0, v1],
+            moving,
+        };
+        let (status, e) = self.judge(st, p.status, &means, probe);
+        // The immersion fields are 0 unless the record is valid.
+        let valid = status.is_valid() && e.method != Method::None;
+        let r = self.cfg.estimator.tool.radius_mm;
+        let pick = |v: f32| if valid { v } else { 0.0 };
+        let zero_unless = |ok: bool, v: f32| if ok { v } else { 0.0 };
+        let (rpm, tc_mm, fx_n, f2_n) = (
+            zero_unless(finite[0], rpm),
+            zero_unless(finite[1], tc_mm),
+            zero_unless(finite[2], fx_n),
+            zero_unless(finite[3], f2_n),
+        );
+        let (filt, method) = ([st.fx_filt_n, st.f2_filt_n, st.tc_filt_mm], e.method);
+        let imm = [
+            pick(e.rr),
+            pick(e.ra),
+            pick(e.dr_mm),
+            pick(e.da_mm),
+            pick(e.rr_sigma * r),
+            pick(e.ra_sigma * r),
+        ];
+        // Written out for each destination: from the same registers, not copied.
+        macro_rules! record {
+            () => {
+                ToothRecord {
+                    end_sample: p.end_sample,
+                    tooth: p.tooth,
+                    samples: p.samples,
+                    rpm,
+                    tc_mm,
+                    fx_n,
+                    f2_n,
+                    fx_filt_n: filt[0],
+                    f2_filt_n: filt[1],
+                    tc_filt_mm: filt[2],
+                    rr: imm[0],
+                    ra: imm[1],
+                    dr_mm: imm[2],
+                    da_mm: imm[3],
+                    dr_sigma_mm: imm[4],
+                    da_sigma_mm: imm[5],
+                    status,
+                    method,
+                }
+            };
+        }
+        if let Some(copy) = copy {
+            *copy = record!();
+        }
+        // (Before the returned record is written, which goes straight to the caller's
+        // place; a mark after it would make that a copy in the probed build.)
+        probe.mark(Stage::Record);
+        record!()
+    }
+
+    /// The checks, the filter and the estimator for one tooth: the record's status, and
+    /// the estimate (`Method::None` and zeros when the tooth is flagged before the
+    /// estimator). Updates the state, including the filter output the record shows.
+    #[inline(always)]
+    fn judge<P: Probe>(
+        &self,
+        st: &mut MonitorState,
+        period_status: Status,
+        t: &Means,
+        probe: &mut P,
+    ) -> (Status, Estimate) {
+        let n = self.cfg.estimator.tool.flutes as usize;
+        let none = Estimate::default();
+        let mut status = period_status;
+        let usable = status.is_valid() && t.all_finite;
         if !usable {
-            rec.status.set_if(rec.status.is_valid(), Status::NON_FINITE);
+            status.set_if(status.is_valid(), Status::NON_FINITE);
             st.settle = self.settle_teeth();
-            self.finish(st, &mut rec);
-            return rec;
+            return (status, none);
         }
         // Air cut or stopped feed: nothing to estimate, and the cut that follows starts
         // with an entry.
+        // Judged on the mean over the last revolution, not on this tooth: with a flute
+        // broken (or gross runout) in a light cut, one tooth period in N carries no chip
+        // while the cut goes on.
         let magnitude = match self.cfg.input {
-            Input::Motor { .. } => f2_n,
-            Input::Dynamometer => crate::fmath::hypot(fx_n, f2_n),
+            Input::Motor { .. } => t.f2_n,
+            Input::Dynamometer => crate::fmath::hypot(t.fx_n, t.f2_n),
         };
-        let cutting = moving && magnitude > self.cfg.estimator.force_floor_n;
+        let nm = n.clamp(1, MAX_REV_TEETH);
+        // `mag_head < nm` always: the wrap is a compare, the division a fallback.
+        let slot = if st.mag_head < nm {
+            st.mag_head
+        } else {
+            st.mag_head % nm
+        };
+        if let Some(m) = st.mags.get_mut(slot) {
+            *m = magnitude;
+        }
+        st.mag_head = if slot + 1 < nm { slot + 1 } else { 0 };
+        // In index order from -0, as `Iterator::sum`.
+        let mut rev_mag = -0.0f32;
+        for &m in st.mags.get(..nm).unwrap_or(&[]) {
+            rev_mag += m;
+        }
+        let rev_mag = rev_mag / n.max(1) as f32;
+        let cutting = t.moving && rev_mag > self.cfg.estimator.force_floor_n;
         if !cutting {
-            rec.status |= Status::NOT_CUTTING;
+            status |= Status::NOT_CUTTING;
             st.settle = self.settle_teeth();
             st.len = 0;
-            self.finish(st, &mut rec);
-            return rec;
+            return (status, none);
         }
         // Feed change: this tooth's t_c against the mean of the last revolution, and the
         // feed direction against the last tooth's (reversal, corner, tight arc).
-        let dir = [v0 / speed, v1 / speed];
+        let dir = [t.v[0] / t.speed, t.v[1] / t.speed];
         if st.len >= n {
             let last_rev = st.last_rev_tc_mm;
             let turned = dir[0] * st.dir[0] + dir[1] * st.dir[1] < MAX_TURN_COS;
-            if turned || (tc_mm - last_rev).abs() > self.cfg.feed_change_rel * last_rev {
-                rec.status |= Status::FEED_CHANGE;
+            if turned || (t.tc_mm - last_rev).abs() > self.cfg.feed_change_rel * last_rev {
+                status |= Status::FEED_CHANGE;
                 st.settle = self.settle_teeth();
             }
         }
         st.dir = dir;
-        push(st, Entry { fx_n, f2_n, tc_mm });
+        self.push(
+            st,
+            Entry {
+                fx_n: t.fx_n,
+                f2_n: t.f2_n,
+                tc_mm: t.tc_mm,
+            },
+            n,
+        );
         probe.mark(Stage::Checks);
         let b = self.blocks(st, n);
         st.last_rev_tc_mm = b.newest.tc_mm;
         probe.mark(Stage::Blocks);
         // Transient: the newest revolution against the one before (both runout-free).
         if b.count >= 2 && self.transient(st, n, &b) {
-            rec.status |= Status::TRANSIENT;
+            status |= Status::TRANSIENT;
             st.settle = self.settle_teeth();
         }
         probe.mark(Stage::Transient);
@@ -545,10 +714,9 @@ impl Monitor {
         st.f2_filt_n = filt.f2_n;
         st.tc_filt_mm = filt.tc_mm;
         if st.settle > 0 || st.len < self.settle_teeth() {
-            rec.status |= Status::SETTLING;
+            status |= Status::SETTLING;
             st.settle = st.settle.saturating_sub(1);
-            self.finish(st, &mut rec);
-            return rec;
+            return (status, none);
         }
         probe.mark(Stage::Filter);
         let m = match self.cfg.input {
@@ -561,11 +729,10 @@ impl Monitor {
                 fy_n: filt.f2_n,
             },
         };
-        let e = self.est.estimate_with_variance(filt.tc_mm, m, b.var);
+        let (e, model) = self.est.estimate_with_model(filt.tc_mm, m, b.var);
+        st.model_n = model;
         probe.mark(Stage::Estimate);
-        self.finish(st, &mut rec);
-        self.take_estimate(&mut rec, &e);
-        rec
+        (status | e.status, e)
     }
 
     /// The transient test on the newest revolution against the one before, and the update
@@ -602,55 +769,54 @@ impl Monitor {
         if !(d_mag > floor || d_fx > floor) {
             return false;
         }
-        let noise =
-            NOISE_SIGMAS * libm::sqrtf(st.noise_var / fmath::max(n as f32 - 1.0, 1.0));
+        let noise = NOISE_SIGMAS * libm::sqrtf(st.noise_var / fmath::max(n as f32 - 1.0, 1.0));
         // The feed force is held to the same scale: it can change alone (a reversal
         // turns down milling into up milling at the same tangential force).
         let limit = fmath::max(floor, fmath::min(noise, cap));
         d_mag > limit || d_fx > limit
     }
 
-    /// One pass over the window in whole revolutions (blocks of `n` teeth, newest first):
-    /// the newest two block means (transient test), the mean of the first `filter_revs`
-    /// (the filter), and the variance of that mean from the scatter of the block means (at
-    /// least two blocks, so one-revolution filters still get a figure).
+    /// The window in whole revolutions (blocks of `n` teeth, newest first): the newest two
+    /// block means (transient test), the mean of the first `filter_revs` (the filter), and
+    /// the variance of that mean from the scatter of the block means (at least two blocks,
+    /// so one-revolution filters still get a figure). The block means were made when their
+    /// newest tooth was stored ([`Self::push`]): the same sums in the same order as summing
+    /// the window here, without going over it every tooth.
     #[inline(always)]
     fn blocks(&self, st: &MonitorState, n: usize) -> Blocks {
         let revs = self.cfg.filter_revs as usize;
+        // Only revolutions whose teeth all came after the last reset (`len` counts them).
         let count = revs.max(2).min(st.len / n.max(1));
         let mut out = Blocks {
             count,
             ..Blocks::default()
         };
         let (mut sum, mut sum2) = ([0.0f32; 2], [0.0f32; 2]);
-        // The ring is read newest first, straight through: block `b` holds entries
-        // `b n .. (b + 1) n` back from the newest.
-        let mut i = st.head;
-        for b in 0..count {
-            let mut m = Entry::default();
-            for _ in 0..n {
-                i = i.wrapping_sub(1) & (MAX_WINDOW - 1);
-                let e = st.ring.get(i).copied().unwrap_or_default();
-                m.fx_n += e.fx_n;
-                m.f2_n += e.f2_n;
-                m.tc_mm += e.tc_mm;
-            }
-            // Same value as `1.0 / n as f32`, computed once at build.
-            let m = Entry {
-                fx_n: m.fx_n * self.inv_flutes,
-                f2_n: m.f2_n * self.inv_flutes,
-                tc_mm: m.tc_mm * self.inv_flutes,
-            };
-            match b {
-                0 => out.newest = m,
-                1 => out.before = m,
-                _ => {}
-            }
-            if b < revs {
-                out.filter.fx_n += m.fx_n;
-                out.filter.f2_n += m.f2_n;
-                out.filter.tc_mm += m.tc_mm;
-            }
+        let mut i = st.head.wrapping_sub(1) & (MAX_WINDOW - 1);
+        let rev = |i: usize| st.rev.get(i).copied().unwrap_or_default();
+        if count >= 1 {
+            out.newest = rev(i);
+        }
+        if count >= 2 {
+            out.before = rev(i.wrapping_sub(n) & (MAX_WINDOW - 1));
+        }
+        // The blocks of the filter, then any beyond it (`count > revs` only with a
+        // one-revolution filter, whose scatter still takes two blocks).
+        let in_filter = count.min(revs);
+        for _ in 0..in_filter {
+            let m = rev(i);
+            i = i.wrapping_sub(n) & (MAX_WINDOW - 1);
+            out.filter.fx_n += m.fx_n;
+            out.filter.f2_n += m.f2_n;
+            out.filter.tc_mm += m.tc_mm;
+            sum[0] += m.fx_n;
+            sum2[0] += m.fx_n * m.fx_n;
+            sum[1] += m.f2_n;
+            sum2[1] += m.f2_n * m.f2_n;
+        }
+        for _ in in_filter..count {
+            let m = rev(i);
+            i = i.wrapping_sub(n) & (MAX_WINDOW - 1);
             sum[0] += m.fx_n;
             sum2[0] += m.fx_n * m.fx_n;
             sum[1] += m.f2_n;
@@ -674,50 +840,43 @@ impl Monitor {
         out
     }
 
+    /// Stores a tooth in the window, and the mean of the revolution it completes: the `n`
+    /// newest entries summed newest first, times `1 / n` (the value `1.0 / n as f32`).
+    #[inline(always)]
+    fn push(&self, st: &mut MonitorState, e: Entry, n: usize) {
+        let head = st.head & (MAX_WINDOW - 1);
+        if let Some(slot) = st.ring.get_mut(head) {
+            *slot = e;
+        }
+        // From 0, the new entry first (from registers), then the `n - 1` before it.
+        let mut m = Entry {
+            fx_n: 0.0 + e.fx_n,
+            f2_n: 0.0 + e.f2_n,
+            tc_mm: 0.0 + e.tc_mm,
+        };
+        let mut i = head;
+        for _ in 1..n {
+            i = i.wrapping_sub(1) & (MAX_WINDOW - 1);
+            let e = st.ring.get(i).copied().unwrap_or_default();
+            m.fx_n += e.fx_n;
+            m.f2_n += e.f2_n;
+            m.tc_mm += e.tc_mm;
+        }
+        if let Some(slot) = st.rev.get_mut(head) {
+            *slot = Entry {
+                fx_n: m.fx_n * self.inv_flutes,
+                f2_n: m.f2_n * self.inv_flutes,
+                tc_mm: m.tc_mm * self.inv_flutes,
+            };
+        }
+        st.head = (head + 1) & (MAX_WINDOW - 1);
+        st.len = (st.len + 1).min(MAX_WINDOW);
+    }
+
     /// Teeth a disturbance keeps the immersion flagged: the window, and at least the two
     /// revolutions the transient test compares.
     #[inline(always)]
     fn settle_teeth(&self) -> usize {
         self.settle
-    }
-
-    /// The filter output, into the record.
-    #[inline(always)]
-    fn finish(&self, st: &MonitorState, rec: &mut ToothRecord) {
-        rec.fx_filt_n = st.fx_filt_n;
-        rec.f2_filt_n = st.f2_filt_n;
-        rec.tc_filt_mm = st.tc_filt_mm;
-    }
-
-    /// The estimate, into the record.
-    #[inline(always)]
-    fn take_estimate(&self, rec: &mut ToothRecord, e: &Estimate) {
-        rec.status |= e.status;
-        rec.method = e.method;
-        if rec.status.is_valid() {
-            let r = self.cfg.estimator.tool.radius_mm;
-            rec.rr = e.rr;
-            rec.ra = e.ra;
-            rec.dr_mm = e.dr_mm;
-            rec.da_mm = e.da_mm;
-            rec.dr_sigma_mm = e.rr_sigma * r;
-            rec.da_sigma_mm = e.ra_sigma * r;
-        }
-    }
-}
-
-fn push(st: &mut MonitorState, e: Entry) {
-    if let Some(slot) = st.ring.get_mut(st.head) {
-        *slot = e;
-    }
-    st.head = (st.head + 1) & (MAX_WINDOW - 1);
-    st.len = (st.len + 1).min(MAX_WINDOW);
-}
-
-fn finite_or_zero(v: f32) -> f32 {
-    if v.is_finite() {
-        v
-    } else {
-        0.0
     }
 }

@@ -5,7 +5,8 @@
 
 use crate::alarm::{AlarmConfig, AlarmOutput, AlarmState, Alarms};
 use crate::monitor::{Monitor, MonitorConfig, MonitorState, Sample, ToothRecord};
-use crate::probe::{NoProbe, Probe};
+use crate::probe::{NoProbe, Probe, Stage};
+use crate::tooth::Period;
 use crate::ConfigError;
 
 /// Everything a board is configured with: the one type host-sim reads from TOML
@@ -42,6 +43,8 @@ pub struct PipelineState {
     pub monitor: MonitorState,
     /// Alarm state (the latched alarm lives here).
     pub alarms: AlarmState,
+    /// The last record, where the alarms read it (see `Pipeline::tooth_update`).
+    last: ToothRecord,
 }
 
 impl Pipeline {
@@ -56,6 +59,12 @@ impl Pipeline {
     }
 
     /// Feeds one sample; when a tooth period closes, its record and what the alarms say.
+    ///
+    /// Not inlined, so that the result (168 bytes) is built straight into the caller's
+    /// variable: bind it to a fresh `let` and match on a reference to it (`if let
+    /// Some((rec, out)) = &result`); moving it elsewhere costs a `memcpy` call of about
+    /// 200 instructions on the Cortex-M4.
+    #[inline(never)]
     pub fn process(
         &self,
         st: &mut PipelineState,
@@ -67,6 +76,7 @@ impl Pipeline {
     /// [`Self::process`], telling `probe` where each stage of a tooth update ends (for the
     /// instruction-count bench; see [`crate::probe`]).
     #[cfg(feature = "probe")]
+    #[inline(never)]
     pub fn process_probed<P: Probe>(
         &self,
         st: &mut PipelineState,
@@ -83,9 +93,38 @@ impl Pipeline {
         s: &Sample,
         probe: &mut P,
     ) -> Option<(ToothRecord, AlarmOutput)> {
-        let rec = self.monitor.process_with(&mut st.monitor, s, probe)?;
-        let out = self.alarms.process_with(&mut st.alarms, &rec, probe);
-        Some((rec, out))
+        match self.monitor.period(&mut st.monitor, s) {
+            None => None,
+            Some(p) => {
+                probe.mark(Stage::Period);
+                Some(self.tooth_update(st, &p, probe))
+            }
+        }
+    }
+
+    /// The record and what the alarms say, built straight into the caller's place: a
+    /// `(ToothRecord, AlarmOutput)` is 168 bytes, and a value of that size built in a
+    /// local and then moved is copied by a `memcpy` call (about 1.2 instructions per byte on
+    /// the Cortex-M4).
+    #[inline(never)]
+    fn tooth_update<P: Probe>(
+        &self,
+        st: &mut PipelineState,
+        p: &Period,
+        probe: &mut P,
+    ) -> (ToothRecord, AlarmOutput) {
+        // The record goes straight into the result, and a second copy, written from the
+        // same registers, into the state for the alarms to read: `rec` itself must not be
+        // read before it is moved, or it is built aside and copied by `memcpy`.
+        let rec = self
+            .monitor
+            .tooth_and_copy(&mut st.monitor, p, &mut st.last, probe);
+        // The wear tracker's eq. 7 at the estimate, already computed by the estimator.
+        let model = Some(st.monitor.model_n());
+        let out = self
+            .alarms
+            .process_with(&mut st.alarms, &st.last, model, probe);
+        (rec, out)
     }
 
     /// The operator's reset of a latched alarm.

@@ -57,6 +57,7 @@ impl FxtPoly {
         )
     }
 
+    #[inline(always)]
     fn eval_scaled(&self, x: f32, y: f32) -> f32 {
         let mut rr = 0.0;
         for row in self.c.iter().rev() {
@@ -69,13 +70,29 @@ impl FxtPoly {
         rr
     }
 
+    /// [`Self::eval_scaled`] for finite `x` and `y`: each Horner chain starts at its top
+    /// coefficient instead of at `0 * y + c`, which for finite `y` is exactly that
+    /// coefficient (no fitted coefficient is zero): the same value, 7 operations fewer.
+    #[inline(always)]
+    fn eval_scaled_finite(&self, x: f32, y: f32) -> f32 {
+        let horner = |row: &[f32; TERMS]| {
+            let [c0, c1, c2, c3, c4, c5] = *row;
+            ((((c5 * y + c4) * y + c3) * y + c2) * y + c1) * y + c0
+        };
+        let [r0, r1, r2, r3, r4, r5] = &self.c;
+        ((((horner(r5) * x + horner(r4)) * x + horner(r3)) * x + horner(r2)) * x + horner(r1)) * x
+            + horner(r0)
+    }
+
     /// `R_r` if `(fxt, tc_mm)` lies in the fitted domain, else `None`.
+    #[inline(always)]
     pub fn eval(&self, fxt: f32, tc_mm: f32) -> Option<f32> {
         let x = (fxt - self.x_scale.0) / self.x_scale.1;
         if !(tc_mm >= self.tc_mm.0 && tc_mm <= self.tc_mm.1 && (-1.0..=1.0).contains(&x)) {
             return None;
         }
-        let rr = self.eval_scaled(x, (libm::logf(tc_mm) - self.y_scale.0) / self.y_scale.1);
+        // `x` is in [-1, 1] and `t_c` in the fitted range here: both coordinates finite.
+        let rr = self.eval_scaled_finite(x, (libm::logf(tc_mm) - self.y_scale.0) / self.y_scale.1);
         // Both ends get the fit's own error as margin, so that a cut exactly at the edge
         // (the slot, above all) is not pushed to the slower inversion; the caller clamps.
         (rr >= self.rr.0 * (1.0 - RR_MARGIN) && rr <= self.rr.1 * (1.0 + RR_MARGIN)).then_some(rr)

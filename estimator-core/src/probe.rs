@@ -25,7 +25,8 @@ pub enum Stage {
     Filter,
     /// The estimator.
     Estimate,
-    /// The record completed (`finish`), just before `Monitor::process` returns.
+    /// The record's values complete (and, in the pipeline, its copy for the alarms
+    /// written); the returned record is written right after, straight into its place.
     Record,
     /// Alarms: watched signal, resets, history.
     AlarmHistory,
@@ -39,15 +40,14 @@ pub enum Stage {
     AlarmOverload,
     /// Alarms: teach-in check.
     AlarmTeach,
-    /// Alarms: wear (EWRLS) update.
+    /// Alarms: wear (EWRLS) update. (The output is then built straight into the caller's
+    /// place: what follows the last mark is that and the return.)
     AlarmWear,
-    /// Alarms: output assembled, just before `Alarms::process` returns.
-    AlarmOutput,
 }
 
 impl Stage {
     /// Number of stages.
-    pub const COUNT: usize = 16;
+    pub const COUNT: usize = 15;
 
     /// Every stage, in the order a full tooth update passes them.
     pub const ALL: [Stage; Stage::COUNT] = [
@@ -66,7 +66,6 @@ impl Stage {
         Stage::AlarmOverload,
         Stage::AlarmTeach,
         Stage::AlarmWear,
-        Stage::AlarmOutput,
     ];
 
     /// Short name.
@@ -87,7 +86,6 @@ impl Stage {
             Stage::AlarmOverload => "alarm_overload",
             Stage::AlarmTeach => "alarm_teach",
             Stage::AlarmWear => "alarm_wear",
-            Stage::AlarmOutput => "alarm_output",
         }
     }
 }

@@ -97,26 +97,71 @@ impl Timing {
     /// Feeds one sample; returns a period when one closes.
     ///
     /// `x`: the raw channels; `sync`: an encoder pulse at this sample.
+    ///
+    /// Per sample this is the inline fast path (no pulse, one pulse per tooth, the period
+    /// not over-long): the sample is added and nothing else happens. Everything else, the
+    /// closing of a period above all, is out of line.
+    #[inline(always)]
     pub fn push(&self, st: &mut ToothState, x: &[f32; CHANNELS], sync: bool) -> Option<Period> {
+        self.push_checked(st, x, sync, true)
+    }
+
+    /// [`Self::push`], with the clip test left out when `check_clip` is false: for a
+    /// caller that knows every clip level is infinite, where the test can only catch an
+    /// infinite sample, which the finiteness test catches anyway.
+    #[inline(always)]
+    pub(crate) fn push_checked(
+        &self,
+        st: &mut ToothState,
+        x: &[f32; CHANNELS],
+        sync: bool,
+        check_clip: bool,
+    ) -> Option<Period> {
+        // `timeout` fires when the period, with this sample, outgrows `max_period`.
+        let quiet = !sync
+            && self.mode == SyncMode::PerTooth
+            && !(st.open && st.len.saturating_add(1) > self.max_period);
+        if quiet {
+            // What `push_slow` does when there is no boundary and no timeout.
+            self.accumulate(st, x, check_clip);
+            st.sample = st.sample.wrapping_add(1);
+            return None;
+        }
+        // By value: the sample is spilled for the call only on this path.
+        self.push_slow(st, *x, sync, check_clip)
+    }
+
+    /// [`Self::push`] in full: boundaries, accumulation, timeout.
+    #[inline(never)]
+    fn push_slow(
+        &self,
+        st: &mut ToothState,
+        x: [f32; CHANNELS],
+        sync: bool,
+        check_clip: bool,
+    ) -> Option<Period> {
         let out = match self.mode {
             SyncMode::PerTooth => self.boundary_per_tooth(st, sync),
             SyncMode::PerRevolution => self.boundary_per_rev(st, sync),
         };
         // The sample that carries the pulse belongs to the new period.
-        self.accumulate(st, x);
+        self.accumulate(st, &x, check_clip);
         let out = out.or_else(|| self.timeout(st));
         st.sample = st.sample.wrapping_add(1);
         out
     }
 
-    fn accumulate(&self, st: &mut ToothState, x: &[f32; CHANNELS]) {
+    #[inline(always)]
+    fn accumulate(&self, st: &mut ToothState, x: &[f32; CHANNELS], check_clip: bool) {
         if !st.open {
             return;
         }
         st.len = st.len.saturating_add(1);
         st.since_rev = st.since_rev.saturating_add(1);
-        let clipped =
-            x[0].abs() >= self.clip[0] || x[1].abs() >= self.clip[1] || x[4].abs() >= self.clip[2];
+        let clipped = check_clip
+            && (x[0].abs() >= self.clip[0]
+                || x[1].abs() >= self.clip[1]
+                || x[4].abs() >= self.clip[2]);
         // `is_finite` on the sum of all channels catches any NaN/inf with one test.
         let finite = (x[0] + x[1] + x[2] + x[3] + x[4]).is_finite();
         if finite && !clipped {
@@ -129,6 +174,7 @@ impl Timing {
         }
     }
 
+    #[inline(always)]
     fn boundary_per_tooth(&self, st: &mut ToothState, sync: bool) -> Option<Period> {
         if !sync {
             return None;
@@ -147,6 +193,7 @@ impl Timing {
         Some(p)
     }
 
+    #[inline(always)]
     fn boundary_per_rev(&self, st: &mut ToothState, sync: bool) -> Option<Period> {
         let n = self.teeth as u32;
         if sync {
@@ -184,8 +231,12 @@ impl Timing {
 
     /// How many teeth a period of `len` samples spans, judged against the previous one;
     /// 1 unless pulses were lost.
+    #[inline(always)]
     fn teeth_swallowed(&self, len: u32, last: u32) -> u8 {
-        if last == 0 {
+        // Below one and a half periods (`2 len < 3 last`) the rounded ratio is 1: no
+        // division needed. (Exact for `last < 2^23`: `len / last` is then at least
+        // `1 / (2 last)` below 1.5, more than the rounding of the f32 quotient.)
+        if last == 0 || (last < 1 << 23 && len <= (3 * last - 1) / 2) {
             return 1;
         }
         let k = (len as f32 / last as f32 + 0.5) as u32;
@@ -196,6 +247,7 @@ impl Timing {
         }
     }
 
+    #[inline(always)]
     fn start(&self, st: &mut ToothState, tooth: u8) {
         st.open = true;
         st.sum = [0.0; CHANNELS];
@@ -207,7 +259,9 @@ impl Timing {
     }
 
     /// Closes the open period, whose last sample is `end`, and opens the next one,
-    /// `advance` teeth later.
+    /// `advance` teeth later. (Inlined into `push_slow`'s few call sites: it runs once per
+    /// tooth, and out of line its `Period` is built aside and copied.)
+    #[inline(always)]
     fn close(&self, st: &mut ToothState, end: u64, advance: u8) -> Period {
         let mut status = Status::VALID;
         let len = st.len;
@@ -234,7 +288,17 @@ impl Timing {
             status,
         };
         st.last_len = len;
-        let next = ((st.tooth as u32 + advance.max(1) as u32) % self.teeth.max(1) as u32) as u8;
+        let teeth = self.teeth.max(1) as u32;
+        let next = st.tooth as u32 + advance.max(1) as u32;
+        // `tooth < teeth` and `advance <= teeth`: one subtraction wraps it (the division
+        // only for a state not made by this `Timing`).
+        let next = if next < teeth {
+            next
+        } else if next < 2 * teeth {
+            next - teeth
+        } else {
+            next % teeth
+        } as u8;
         let since_rev = st.since_rev;
         self.start(st, next);
         st.since_rev = since_rev;
@@ -242,6 +306,7 @@ impl Timing {
     }
 
     /// Emits one `NO_SYNC` period when the open one outgrows every speed allowed.
+    #[inline(always)]
     fn timeout(&self, st: &mut ToothState) -> Option<Period> {
         let limit = match self.mode {
             SyncMode::PerTooth => st.len,
