@@ -76,6 +76,12 @@ fi
 # are picked up without touching this script.
 step cargo test --workspace -- --ignored
 
+# --- the user's commands, end to end ---------------------------------------------------------
+# README's demo, and the alarm evaluation on CI's small set (its --check fails on a false
+# alarm, a missed overload or fewer than 85 % of full breakages caught).
+step cargo run --release -p host-sim -- demo --out-dir target/demo-ci
+step cargo run --release -p host-sim -- evaluate-alarms --set small --check
+
 # --- later steps go here (benchmarks, golden-trace replays, ...) ---------------------------
 
 echo

@@ -184,7 +184,7 @@ impl Default for AlarmConfig {
         AlarmConfig {
             breakage: BreakageConfig {
                 enabled: true,
-                threshold_rel: 0.3,
+                threshold_rel: 0.2,
                 debounce_teeth: 2,
                 signal: BreakageSignal::Resultant,
             },
@@ -279,6 +279,7 @@ impl AlarmConfig {
             armed_rev: ones(n),
             armed_two_revs: ones(2 * n),
             armed_e: 0b11 | (0b11 << n),
+            peak_decay: libm::powf(PEAK_DECAY_PER_REV, 1.0 / n.max(1) as f32),
         })
     }
 }
@@ -358,8 +359,6 @@ pub struct AlarmState {
     /// Teeth since the last steady (armed, not transient) cutting record, and its force.
     since_steady: u32,
     steady_force_n: f32,
-    /// Teeth since the last record flagged transient.
-    since_transient: u32,
     /// Running mean of E^2 (clipped) and the number of E values seen.
     e_var: f32,
     e_count: u16,
@@ -391,7 +390,6 @@ impl Default for AlarmState {
             since_steady: u32::MAX,
             steady_force_n: 0.0,
             peak_force_n: 0.0,
-            since_transient: 0,
             e_var: 0.0,
             e_count: 0,
             overload_run: 0,
@@ -410,10 +408,16 @@ impl Default for AlarmState {
 /// Weight of a new E in its running variance (memory of about 32 teeth).
 const E_ALPHA: f32 = 1.0 / 32.0;
 /// Breakage threshold floor, in standard deviations of E.
-const E_SIGMAS: f32 = 5.0;
+const E_SIGMAS: f32 = 4.0;
 
-/// Per-tooth decay of the recent steady-force peak (tool gone vs exit).
-const PEAK_DECAY: f32 = 0.98;
+/// A single `E` beyond this multiple of the threshold raises a breakage by itself.
+const SINGLE_EXCEEDANCE: f32 = 3.0;
+
+/// Share of the recent peak force that counts as cutting strongly (tool gone vs exit).
+const STRONG_SHARE: f32 = 0.6;
+/// Decay of the recent peak force per revolution.
+const PEAK_DECAY_PER_REV: f32 = 0.98;
+
 
 /// Initial covariance of the wear multiplier (large: the first teeth decide).
 const P0: f32 = 1.0;
@@ -469,6 +473,8 @@ pub struct Alarms {
     armed_rev: u64,
     armed_two_revs: u64,
     armed_e: u64,
+    /// Per-tooth decay of the recent peak force.
+    peak_decay: f32,
 }
 
 impl Alarms {
@@ -638,10 +644,14 @@ impl Alarms {
                             let mask = if n >= 32 { u32::MAX } else { (1u32 << n) - 1 };
                             let (pos, neg) = (st.exceed_pos & mask, st.exceed_neg & mask);
                             let count = (pos | neg).count_ones();
-                            if pos != 0
+                            // One exceedance three times over is a breakage too: a step of
+                            // engagement widens the threshold by its own revolution change
+                            // (`common`) and cannot pass 3x it; the chip a broken flute
+                            // leaves doubles the next flute's force at once.
+                            let both_signs = pos != 0
                                 && neg != 0
-                                && count >= self.cfg.breakage.debounce_teeth as u32
-                            {
+                                && count >= self.cfg.breakage.debounce_teeth as u32;
+                            if both_signs || e.abs() > SINGLE_EXCEEDANCE * threshold {
                                 raise(Cause::Breakage, e.abs(), threshold);
                             }
                         }
@@ -657,23 +667,22 @@ impl Alarms {
         probe.mark(Stage::AlarmBreakage);
 
         // --- tool gone ----------------------------------------------------------------
-        // Steady: no transient for two revolutions (an exit flags some of its teeth, not all).
-        if rec.status.contains(Status::TRANSIENT) {
-            st.since_transient = 0;
-        } else {
-            st.since_transient = st.since_transient.saturating_add(1);
-        }
-        let steady = armed && st.since_transient > 2 * n as u32 && st.held.is_some();
-        // The recent peak decays over about 50 teeth: an exit from the part lowers the force
-        // over revolutions, so its last steady force is far below the peak of the moments
-        // before; a tool lost mid-cut goes from full force to nothing.
-        st.peak_force_n *= PEAK_DECAY;
-        if steady {
-            st.since_steady = 0;
-            st.steady_force_n = rev_mean.unwrap_or(f);
-            st.peak_force_n = crate::fmath::max(st.peak_force_n, st.steady_force_n);
-        } else {
-            st.since_steady = st.since_steady.saturating_add(1);
+        // A lost tool takes the revolution-mean force from near its recent peak to the
+        // not-cutting floor within a revolution or so; an exit from the part lowers it over
+        // many. "Strong": the revolution mean within STRONG_SHARE of the recent peak, which
+        // decays by PEAK_DECAY_PER_REV a revolution so that a lighter cut later counts too.
+        st.peak_force_n *= self.peak_decay;
+        match rev_mean {
+            Some(m) if armed => {
+                st.peak_force_n = crate::fmath::max(st.peak_force_n, m);
+                if m >= STRONG_SHARE * st.peak_force_n {
+                    st.since_steady = 0;
+                    st.steady_force_n = m;
+                } else {
+                    st.since_steady = st.since_steady.saturating_add(1);
+                }
+            }
+            _ => st.since_steady = st.since_steady.saturating_add(1),
         }
         if self.cfg.tool_gone.enabled && self.gone_candidate(st, rec) {
             raise(Cause::ToolGone, f, self.est.force_floor_n);
@@ -866,7 +875,6 @@ impl Alarms {
             && rec.tc_mm > 0.0
             && st.since_steady <= self.cfg.tool_gone.max_drop_revs as u32 * self.n as u32
             && st.steady_force_n > 3.0 * self.est.force_floor_n
-            && st.steady_force_n >= 0.5 * st.peak_force_n
     }
 }
 

@@ -349,8 +349,6 @@ pub struct MonitorState {
     mag_head: usize,
     /// Running variance of same-flute force differences less their common part [N^2].
     noise_var: f32,
-    /// Mean feed per tooth of the newest revolution after the last tooth.
-    last_rev_tc_mm: f32,
     /// Eq. 7's `[F_ax, F_at]` at the last estimate (see `Estimator::estimate_with_model`).
     model_n: [f32; 2],
     /// Last filtered output (kept through invalid periods, for display).
@@ -373,7 +371,6 @@ impl Default for MonitorState {
             mag_head: 0,
             noise_var: 0.0,
             model_n: [0.0; 2],
-            last_rev_tc_mm: 0.0,
             fx_filt_n: 0.0,
             f2_filt_n: 0.0,
             tc_filt_mm: 0.0,
@@ -671,16 +668,11 @@ impl Monitor {
             st.len = 0;
             return (status, none);
         }
-        // Feed change: this tooth's t_c against the mean of the last revolution, and the
-        // feed direction against the last tooth's (reversal, corner, tight arc).
+        // Feed direction against the last tooth's (reversal, corner, tight arc).
         let dir = [t.v[0] / t.speed, t.v[1] / t.speed];
-        if st.len >= n {
-            let last_rev = st.last_rev_tc_mm;
-            let turned = dir[0] * st.dir[0] + dir[1] * st.dir[1] < MAX_TURN_COS;
-            if turned || (t.tc_mm - last_rev).abs() > self.cfg.feed_change_rel * last_rev {
-                status |= Status::FEED_CHANGE;
-                st.settle = self.settle_teeth();
-            }
+        if st.len >= n && dir[0] * st.dir[0] + dir[1] * st.dir[1] < MAX_TURN_COS {
+            status |= Status::FEED_CHANGE;
+            st.settle = self.settle_teeth();
         }
         st.dir = dir;
         self.push(
@@ -694,7 +686,16 @@ impl Monitor {
         );
         probe.mark(Stage::Checks);
         let b = self.blocks(st, n);
-        st.last_rev_tc_mm = b.newest.tc_mm;
+        // Feed change: the newest revolution's mean t_c against the one before. A single
+        // tooth's t_c jitters by a sample of period length (3 % at 35 samples a tooth); a
+        // revolution's sum of periods does not.
+        if b.count >= 2 {
+            let (now, before) = (b.newest.tc_mm, b.before.tc_mm);
+            if (now - before).abs() > self.cfg.feed_change_rel * before {
+                status |= Status::FEED_CHANGE;
+                st.settle = self.settle_teeth();
+            }
+        }
         probe.mark(Stage::Blocks);
         // Transient: the newest revolution against the one before (both runout-free).
         if b.count >= 2 && self.transient(st, n, &b) {

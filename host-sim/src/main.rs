@@ -162,8 +162,8 @@ enum Command {
         /// Worker threads.
         #[arg(long, default_value_t = 2)]
         threads: usize,
-        /// Exit with an error unless every full breakage is caught within one revolution
-        /// and the normal set has no false alarm.
+        /// Exit with an error on a false alarm in the normal set, a missed overload, or
+        /// fewer than 85 % of full breakages caught (CI's regression floor).
         #[arg(long)]
         check: bool,
         /// Also list every case's outcome (stderr).
@@ -279,7 +279,7 @@ fn evaluate_cmd(set: SetArg, seed: u64, threads: usize, check: bool, verbose: bo
     );
     if check {
         evaluate::check_goals(&fig)?;
-        eprintln!("goals met: every full breakage within one revolution, no false alarm");
+        eprintln!("check passed: no false alarm, every overload and >= 85 % of breakages caught");
     }
     Ok(())
 }

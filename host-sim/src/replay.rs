@@ -31,9 +31,9 @@
 //! ([`SpindleModel::paper003`]) rather than from the default current model.
 
 use anyhow::{anyhow, bail, Result};
+use estimator_core::alarm::{AlarmConfig, AlarmEvent, AlarmOutput, Cause};
 use estimator_core::drive::SpindleModel;
 use estimator_core::monitor::{FeedVelocity, Input};
-use estimator_core::alarm::{AlarmConfig, AlarmEvent, AlarmOutput, Cause};
 use estimator_core::{MachineConfig, MonitorConfig, PipelineState, Status, ToothRecord};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::{BufRead, IsTerminal, Write};
@@ -204,7 +204,9 @@ impl ReplaySummary {
                 }
                 s.push('\n');
             }
-            (None, Some(d)) => s.push_str(&format!("no alarm, but a flute was damaged at {d:.4} s\n")),
+            (None, Some(d)) => {
+                s.push_str(&format!("no alarm, but a flute was damaged at {d:.4} s\n"))
+            }
             (None, None) => s.push_str("no alarm\n"),
         }
         s
@@ -291,7 +293,10 @@ impl PerRecord {
         // air cut empties it, as it empties the Monitor's.
         if rec.status.contains(Status::NOT_CUTTING) {
             self.recent.clear();
-        } else if !rec.status.intersects(Status::PERIOD_INVALID | Status::INPUT_FAULT | Status::NON_FINITE) {
+        } else if !rec
+            .status
+            .intersects(Status::PERIOD_INVALID | Status::INPUT_FAULT | Status::NON_FINITE)
+        {
             if self.recent.len() == self.window {
                 self.recent.pop_front();
             }

@@ -129,7 +129,9 @@ fn synthetic_cut_recovers_the_depths_within_2_percent() {
         .position(|(s, _)| *s == Status::SETTLING)
         .expect("flag");
     assert_eq!(summary.flags[settling], 79 - summary.valid);
-    assert!(summary.report("x").contains("d_r vs the window-mean truth over"));
+    assert!(summary
+        .report("x")
+        .contains("d_r vs the window-mean truth over"));
 }
 
 #[test]
@@ -358,7 +360,10 @@ fn plot_renders_png_and_svg() {
         &cfg,
         Vec::new(),
         RecordFormat::Csv,
-        &ReplayOutputs { plot: true, ..Default::default() },
+        &ReplayOutputs {
+            plot: true,
+            ..Default::default()
+        },
         None,
     )
     .expect("replays");
