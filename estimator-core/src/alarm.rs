@@ -418,7 +418,6 @@ const STRONG_SHARE: f32 = 0.6;
 /// Decay of the recent peak force per revolution.
 const PEAK_DECAY_PER_REV: f32 = 0.98;
 
-
 /// Initial covariance of the wear multiplier (large: the first teeth decide).
 const P0: f32 = 1.0;
 

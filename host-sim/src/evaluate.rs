@@ -584,7 +584,10 @@ pub fn report(fig: &[SetFigures; 5]) -> String {
 pub fn check_goals(fig: &[SetFigures; 5]) -> Result<()> {
     let [normal, brk, _, _, overload] = fig;
     if normal.false_alarms != 0 {
-        bail!("{} false alarms in the normal set (must be none)", normal.false_alarms);
+        bail!(
+            "{} false alarms in the normal set (must be none)",
+            normal.false_alarms
+        );
     }
     let share = brk.detected as f64 / brk.cases.max(1) as f64;
     if share < MIN_BREAK_DETECTION {
@@ -596,7 +599,11 @@ pub fn check_goals(fig: &[SetFigures; 5]) -> Result<()> {
         );
     }
     if overload.detected != overload.cases {
-        bail!("{} of {} overloads caught (must be all)", overload.detected, overload.cases);
+        bail!(
+            "{} of {} overloads caught (must be all)",
+            overload.detected,
+            overload.cases
+        );
     }
     Ok(())
 }
