@@ -409,8 +409,10 @@ fn shown(path: &Path) -> String {
         .to_string()
 }
 
-/// Writes `path` through `path.partial`, renamed only when `body` succeeded.
-pub(crate) fn write_then_rename<T>(
+/// Writes `path` through `path.partial`, renamed only when `body` succeeded: a failed run
+/// never leaves a truncated output that looks complete. Every output of host-sim goes
+/// through it.
+pub fn write_then_rename<T>(
     path: &Path,
     body: impl FnOnce(&mut BufWriter<File>) -> Result<T>,
 ) -> Result<T> {

@@ -28,3 +28,5 @@ pub mod sim;
 pub mod telemetry;
 pub mod trace;
 pub mod voxel;
+
+pub use demo::write_then_rename;

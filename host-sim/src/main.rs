@@ -2,7 +2,7 @@
 
 use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand, ValueEnum};
-use host_sim::{config, estimate, gen_poly, plot, replay, sim, trace};
+use host_sim::{config, estimate, gen_poly, plot, replay, sim, trace, write_then_rename};
 use std::fs::File;
 use std::io::{BufReader, BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -474,29 +474,4 @@ fn bench_replay_cmd(seconds: f64, repeat: u32) -> Result<()> {
         r.samples as f64 / r.monitor_s / 1e6
     );
     Ok(())
-}
-
-/// Runs `body` on a temporary file beside `path` and renames it to `path` only on success,
-/// so a failed run never leaves a truncated output that looks complete.
-fn write_then_rename<T>(
-    path: &Path,
-    body: impl FnOnce(&mut BufWriter<File>) -> Result<T>,
-) -> Result<T> {
-    let mut tmp_name = path.as_os_str().to_owned();
-    tmp_name.push(".partial");
-    let tmp = PathBuf::from(tmp_name);
-    let f = File::create(&tmp).with_context(|| format!("cannot create {}", tmp.display()))?;
-    let mut w = BufWriter::new(f);
-    let result = body(&mut w).and_then(|v| {
-        w.flush()
-            .with_context(|| format!("cannot write {}", tmp.display()))?;
-        std::fs::rename(&tmp, path)
-            .with_context(|| format!("cannot rename {} to {}", tmp.display(), path.display()))?;
-        Ok(v)
-    });
-    if result.is_err() {
-        // Best effort: the error being reported matters more than a leftover file.
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result
 }
