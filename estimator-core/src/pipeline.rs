@@ -4,6 +4,7 @@
 //! records and the alarms they produce from the same samples are the same bit for bit.
 
 use crate::alarm::{AlarmConfig, AlarmOutput, AlarmState, Alarms};
+use crate::frontend::FrontEnd;
 use crate::monitor::{Monitor, MonitorConfig, MonitorState, Sample, ToothRecord};
 use crate::probe::{NoProbe, Probe, Stage};
 use crate::tooth::Period;
@@ -18,11 +19,18 @@ pub struct MachineConfig {
     pub monitor: MonitorConfig,
     /// Detectors.
     pub alarms: AlarmConfig,
+    /// The board's analog inputs and feed encoder (volts to signal units, counts to mm).
+    /// Replay ignores it (a trace is already in signal units); a file without it gets the
+    /// defaults.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub front_end: FrontEnd,
 }
 
 impl MachineConfig {
-    /// Validates both parts.
+    /// Validates all three parts (the front end is checked, not kept: the pipeline runs on
+    /// signal units).
     pub fn build(self) -> Result<Pipeline, ConfigError> {
+        self.front_end.validate()?;
         let alarms = self.alarms.build(&self.monitor.estimator)?;
         let monitor = self.monitor.build()?;
         Ok(Pipeline { monitor, alarms })
@@ -149,6 +157,16 @@ mod tests {
         assert_eq!(
             c.build().err(),
             Some(ConfigError::OutOfRange("breakage.debounce_teeth"))
+        );
+    }
+
+    #[test]
+    fn front_end_is_checked() {
+        let mut c = MachineConfig::default();
+        c.front_end.feed.units_per_volt = 0.0;
+        assert_eq!(
+            c.build().err(),
+            Some(ConfigError::OutOfRange("front_end.feed.units_per_volt"))
         );
     }
 }

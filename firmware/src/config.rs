@@ -8,9 +8,9 @@
 //!   watchdog timeout. Each carries its derivation. Pins are in the board module
 //!   (`src/board/mod.rs`), the only place that names peripherals.
 //! - **The configuration** ([`BoardConfig`]): the core's [`MachineConfig`] (tool,
-//!   coefficients, drive models, thresholds: the same type host-sim reads from
-//!   `machine.toml`) plus what only a board has: the analog front end of each input, the
-//!   feed encoder and the telemetry decimation. [`BoardConfig::board_default`] is what the
+//!   coefficients, drive models, thresholds, and the analog front end of each input and
+//!   the feed encoder in `machine.front_end`: the same type host-sim reads from
+//!   `machine.toml`) plus what only a board has: the telemetry decimation. [`BoardConfig::board_default`] is what the
 //!   firmware is built with; [`BoardConfig::build`] checks it once at start-up, with errors
 //!   that name the parameter, and the per-sample path cannot fail afterwards.
 //!
@@ -27,6 +27,7 @@
 //! reads the sample index directly (see `board/tooth_capture.rs`).
 
 use estimator_core::monitor::Input;
+pub use estimator_core::{AnalogInput, FeedEncoder, FrontEnd};
 use estimator_core::{ConfigError, MachineConfig, Pipeline};
 
 /// APB1 timer clock [Hz]: the sample trigger (TIM3) and the sample counter (TIM2).
@@ -73,48 +74,6 @@ pub const ADC_MAX_CODE: u16 = 4095;
 /// ADC reference [V] (VDDA on the board).
 pub const ADC_VREF_V: f32 = 3.3;
 
-/// One analog input: check terminal -> front end -> ADC pin.
-///
-/// `v_pin = front_end_gain * v_terminal + front_end_offset_v`, and the drive's check
-/// terminal reads `signal = units_per_volt * v_terminal + units_at_zero_v` (amperes for a
-/// current input, % for a spindle load).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct AnalogInput {
-    /// Volts at the ADC pin per volt at the check terminal (the divider), > 0.
-    pub front_end_gain: f32,
-    /// Volts at the ADC pin for 0 V at the terminal (the level shift), in `[0, VREF]`.
-    pub front_end_offset_v: f32,
-    /// Signal units per volt at the terminal (the drive's scaling, e.g. 3 A/V for a drive
-    /// whose check terminal gives 10 V at 30 A), not 0.
-    pub units_per_volt: f32,
-    /// Signal at 0 V at the terminal (the drive's offset).
-    pub units_at_zero_v: f32,
-}
-
-impl AnalogInput {
-    /// A bipolar ±10 V check terminal on the reference front end (gain 0.15, offset 1.65 V:
-    /// -10 V -> 0.15 V, +10 V -> 3.15 V at the pin) at `units_per_volt`.
-    pub const fn bipolar_10v(units_per_volt: f32) -> Self {
-        AnalogInput {
-            front_end_gain: 0.15,
-            front_end_offset_v: 1.65,
-            units_per_volt,
-            units_at_zero_v: 0.0,
-        }
-    }
-}
-
-/// The feed-axis quadrature encoder (TIM4 in encoder mode).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct FeedEncoder {
-    /// Counts per mm of axis travel (x4 decoding included), signed: negative flips the
-    /// direction.
-    pub counts_per_mm: f32,
-    /// Velocity window [blocks]: the velocity is the travel over the last `window_blocks`
-    /// blocks. 1 count over 64 blocks of 1.6 ms is 0.6 mm/min at 1 000 counts/mm.
-    pub window_blocks: u16,
-}
-
 /// Telemetry stream.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TelemetryConfig {
@@ -126,32 +85,23 @@ pub struct TelemetryConfig {
 /// Everything the board is configured with.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BoardConfig {
-    /// The core's configuration: monitor and alarms (host-sim's `machine.toml`).
+    /// The core's configuration: monitor, alarms and front end (host-sim's
+    /// `machine.toml`). `machine.front_end.feed` is wired to ADC1 IN4, `.spindle` to
+    /// ADC1 IN5, `.feed_encoder` to TIM4.
     pub machine: MachineConfig,
-    /// Feed-axis current input (ADC1 IN4).
-    pub feed_input: AnalogInput,
-    /// Spindle current (or load) input (ADC1 IN5).
-    pub spindle_input: AnalogInput,
-    /// Feed-axis encoder (used when the monitor measures the feed velocity).
-    pub feed_encoder: FeedEncoder,
     /// Telemetry.
     pub telemetry: TelemetryConfig,
 }
 
 impl BoardConfig {
     /// What the firmware is built with: `MachineConfig::default()` (the paper's tool, one
-    /// feed axis, current-sensed spindle, 20 kS/s, default alarms) on ±10 V check terminals
-    /// scaled 3 A/V (feed) and 5 A/V (spindle), a 1 000 counts/mm feed encoder, every
-    /// record sent. Edit here for another machine (see the module docs).
+    /// feed axis, current-sensed spindle, 20 kS/s, default alarms, and the default
+    /// [`FrontEnd`]: ±10 V check terminals scaled 3 A/V (feed) and 5 A/V (spindle), a
+    /// 1 000 counts/mm feed encoder over 64 blocks), every record sent. Edit here for
+    /// another machine (see the module docs).
     pub fn board_default() -> Self {
         BoardConfig {
             machine: MachineConfig::default(),
-            feed_input: AnalogInput::bipolar_10v(3.0),
-            spindle_input: AnalogInput::bipolar_10v(5.0),
-            feed_encoder: FeedEncoder {
-                counts_per_mm: 1000.0,
-                window_blocks: 64,
-            },
             telemetry: TelemetryConfig { record_every: 1 },
         }
     }
@@ -169,46 +119,32 @@ impl BoardConfig {
                 return Err(Board("machine.monitor.input.motor.feed.two_axis"));
             }
         }
+        let fe = self.machine.front_end;
+        // The core checks the front end (MachineConfig::build, below); the board adds that
+        // the level shift lies within its ADC reference.
         for (input, name) in [
-            (&self.feed_input, "feed_input"),
-            (&self.spindle_input, "spindle_input"),
+            (&fe.feed, "machine.front_end.feed.front_end_offset_v"),
+            (&fe.spindle, "machine.front_end.spindle.front_end_offset_v"),
         ] {
-            input.check().map_err(|()| Board(name))?;
-        }
-        let e = &self.feed_encoder;
-        if !(e.counts_per_mm.is_finite() && e.counts_per_mm != 0.0) {
-            return Err(Board("feed_encoder.counts_per_mm"));
-        }
-        if e.window_blocks == 0 || e.window_blocks as usize > crate::frontend::MAX_WINDOW_BLOCKS {
-            return Err(Board("feed_encoder.window_blocks"));
+            if input.front_end_offset_v > ADC_VREF_V {
+                return Err(Board(name));
+            }
         }
         if self.telemetry.record_every == 0 {
             return Err(Board("telemetry.record_every"));
         }
-        let feed_scale = crate::frontend::Scale::new(&self.feed_input);
-        let spindle_scale = crate::frontend::Scale::new(&self.spindle_input);
         let pipeline = self.machine.build().map_err(Core)?;
+        let feed_scale = crate::frontend::Scale::new(&fe.feed);
+        let spindle_scale = crate::frontend::Scale::new(&fe.spindle);
         Ok(BuiltConfig {
             pipeline,
             trigger_period_ticks: trigger_period,
             sample_rate_hz: fs,
             feed_scale,
             spindle_scale,
-            feed_encoder: self.feed_encoder,
+            feed_encoder: fe.feed_encoder,
             telemetry: self.telemetry,
         })
-    }
-}
-
-impl AnalogInput {
-    fn check(&self) -> Result<(), ()> {
-        let ok = self.front_end_gain.is_finite()
-            && self.front_end_gain > 0.0
-            && (0.0..=ADC_VREF_V).contains(&self.front_end_offset_v)
-            && self.units_per_volt.is_finite()
-            && self.units_per_volt != 0.0
-            && self.units_at_zero_v.is_finite();
-        ok.then_some(()).ok_or(())
     }
 }
 
@@ -311,10 +247,33 @@ mod tests {
             Some(BoardConfigError::Board("telemetry.record_every"))
         );
         let mut c = BoardConfig::board_default();
-        c.spindle_input.front_end_gain = 0.0;
+        c.machine.front_end.spindle.front_end_gain = 0.0;
+        let e = c.build().err();
+        assert_eq!(
+            e,
+            Some(BoardConfigError::Core(ConfigError::OutOfRange(
+                "front_end.spindle.front_end_gain"
+            )))
+        );
+        assert_eq!(
+            e.map(|e| e.parameter()),
+            Some("front_end.spindle.front_end_gain")
+        );
+        let mut c = BoardConfig::board_default();
+        c.machine.front_end.feed.front_end_offset_v = ADC_VREF_V + 0.1;
         assert_eq!(
             c.build().err(),
-            Some(BoardConfigError::Board("spindle_input"))
+            Some(BoardConfigError::Board(
+                "machine.front_end.feed.front_end_offset_v"
+            ))
+        );
+        let mut c = BoardConfig::board_default();
+        c.machine.front_end.feed_encoder.window_blocks = 0;
+        assert_eq!(
+            c.build().err(),
+            Some(BoardConfigError::Core(ConfigError::OutOfRange(
+                "front_end.feed_encoder.window_blocks"
+            )))
         );
         let mut c = BoardConfig::board_default();
         if let Input::Motor { feed, .. } = &mut c.machine.monitor.input {

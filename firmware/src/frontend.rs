@@ -18,9 +18,12 @@
 //! the feed per tooth above 3 % (`feed_change`), and a single-block window would quantise
 //! a 360 mm/min feed to 37.5 mm/min steps at 1 000 counts/mm.
 //!
-//! [`AnalogInput`]: crate::config::AnalogInput
+//! [`AnalogInput`] and the encoder's [`FeedEncoder`](estimator_core::FeedEncoder) are the
+//! core's types (`MachineConfig::front_end`, what host-sim reads from the machine file's
+//! `[front_end]` table); this module holds the arithmetic that uses them.
 
-use crate::config::{AnalogInput, ADC_MAX_CODE, ADC_VREF_V};
+use crate::config::{ADC_MAX_CODE, ADC_VREF_V};
+use estimator_core::AnalogInput;
 
 /// A raw 12-bit ADC reading.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -57,8 +60,9 @@ impl Scale {
     }
 }
 
-/// Longest velocity window [blocks] (the ring is 4 bytes a block, in the sampling task).
-pub const MAX_WINDOW_BLOCKS: usize = 64;
+/// Longest velocity window [blocks] (the ring is 4 bytes a block, in the sampling task):
+/// the core's limit on `FeedEncoder::window_blocks`.
+pub use estimator_core::frontend::MAX_WINDOW_BLOCKS;
 
 /// Feed velocity from the encoder counter, one reading per block.
 #[derive(Clone, Debug)]

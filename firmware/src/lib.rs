@@ -18,8 +18,9 @@
 //! where host tests reach it:
 //!
 //! - [`config`]: board constants (sample clock, block size, queues, baud rate, watchdog) and
-//!   the configuration the board runs: the core's [`MachineConfig`] plus the analog front
-//!   end, the feed encoder and telemetry decimation, checked once;
+//!   the configuration the board runs: the core's [`MachineConfig`] (with the analog front
+//!   end and the feed encoder in its `front_end`) plus the telemetry decimation, checked
+//!   once;
 //! - [`frontend`]: ADC codes to signal units, quadrature counts to feed velocity;
 //! - [`sync`]: capture timestamps to sample indices, and their merge into the samples;
 //! - [`stage`]: the monitor + alarm stage (gaps, late edges, decimation, counters);

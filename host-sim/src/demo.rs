@@ -125,6 +125,7 @@ pub fn machine_for(sc: &Scenario) -> Result<MachineConfig> {
             ..MonitorConfig::default()
         },
         alarms: AlarmConfig::default(),
+        front_end: estimator_core::FrontEnd::default(),
     })
 }
 

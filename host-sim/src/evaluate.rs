@@ -409,6 +409,7 @@ pub fn draw_case(kind: Kind, index: usize, seed: u64) -> Result<Case> {
             ..MonitorConfig::default()
         },
         alarms,
+        front_end: estimator_core::FrontEnd::default(),
     };
     Ok(Case {
         kind,

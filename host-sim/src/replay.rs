@@ -24,7 +24,9 @@
 //! that measures the feed velocity (it needs `feed_velocity = { nominal = [vx, vy] }`).
 //!
 //! The machine file (`--config`) is a TOML [`MonitorConfig`] plus an optional `[alarms]`
-//! table ([`AlarmConfig`]), each laid over its defaults by [`crate::config::override_from`]
+//! table ([`AlarmConfig`]) and an optional `[front_end]` table ([`FrontEnd`]: the board's
+//! input scaling, checked but not used by replay, whose trace is already in signal units),
+//! each laid over its defaults by [`crate::config::override_from`]
 //! (unknown keys are errors naming the key). Enum variants
 //! with fields are the one thing an overlay cannot merge into a different default: a
 //! `[input.motor.spindle.load]` table therefore starts from paper 003's FANUC model
@@ -33,6 +35,7 @@
 use anyhow::{anyhow, bail, Result};
 use estimator_core::alarm::{AlarmConfig, AlarmEvent, AlarmOutput, Cause};
 use estimator_core::drive::SpindleModel;
+use estimator_core::frontend::FrontEnd;
 use estimator_core::monitor::{FeedVelocity, Input};
 use estimator_core::{MachineConfig, MonitorConfig, PipelineState, Status, ToothRecord};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -421,6 +424,7 @@ pub fn replay_source<S: RowSource + ?Sized>(
     let pipeline = MachineConfig {
         monitor: cfg.clone(),
         alarms: *alarms,
+        front_end: FrontEnd::default(),
     }
     .build()
     .map_err(|e| anyhow!("machine configuration: {e}"))?;
@@ -598,6 +602,9 @@ pub struct LoadedConfig {
     pub config: MonitorConfig,
     /// The `[alarms]` table laid over the default detectors.
     pub alarms: AlarmConfig,
+    /// The `[front_end]` table laid over the default front end, validated (the firmware's
+    /// input scaling; replay does not use it).
+    pub front_end: FrontEnd,
     /// What names it in messages (the file, or "default configuration").
     pub what: String,
     patch: toml::Table,
@@ -661,19 +668,17 @@ pub fn parse_monitor_config(
     trace_rate_hz: Option<f64>,
 ) -> Result<LoadedConfig> {
     let mut patch: toml::Table = config::parse_toml(text, file)?;
-    // `[alarms]` is the AlarmConfig half of the machine; the rest is the MonitorConfig.
-    let had_alarms = patch.contains_key("alarms");
-    let alarms = match patch.remove("alarms") {
-        None => AlarmConfig::default(),
-        Some(toml::Value::Table(t)) => {
-            let text = toml::to_string(&t).map_err(|e| anyhow!("{file}: [alarms]: {e}"))?;
-            config::override_from(&AlarmConfig::default(), &text, &format!("{file} [alarms]"))?
-        }
-        Some(_) => bail!("{file}: `alarms` must be a table ([alarms])"),
-    };
-    // Without `[alarms]` the file's own text is parsed, so TOML errors keep its lines.
+    // `[alarms]` is the AlarmConfig part of the machine, `[front_end]` the FrontEnd part;
+    // the rest is the MonitorConfig.
+    let split = patch.contains_key("alarms") || patch.contains_key("front_end");
+    let alarms: AlarmConfig = take_table(&mut patch, "alarms", file)?;
+    let front_end: FrontEnd = take_table(&mut patch, "front_end", file)?;
+    front_end
+        .validate()
+        .map_err(|e| anyhow!("{file} [front_end]: {e}"))?;
+    // Without those tables the file's own text is parsed, so TOML errors keep its lines.
     let rest;
-    let text = if had_alarms {
+    let text = if split {
         rest = toml::to_string(&patch).map_err(|e| anyhow!("{file}: {e}"))?;
         rest.as_str()
     } else {
@@ -708,9 +713,26 @@ pub fn parse_monitor_config(
     Ok(LoadedConfig {
         config: cfg,
         alarms,
+        front_end,
         what: file.to_string(),
         patch,
     })
+}
+
+/// Removes the table `key` from `patch` and lays it over `T::default()` (the default
+/// without it).
+fn take_table<T>(patch: &mut toml::Table, key: &str, file: &str) -> Result<T>
+where
+    T: Default + serde::Serialize + serde::de::DeserializeOwned,
+{
+    match patch.remove(key) {
+        None => Ok(T::default()),
+        Some(toml::Value::Table(t)) => {
+            let text = toml::to_string(&t).map_err(|e| anyhow!("{file}: [{key}]: {e}"))?;
+            config::override_from(&T::default(), &text, &format!("{file} [{key}]"))
+        }
+        Some(_) => bail!("{file}: `{key}` must be a table ([{key}])"),
+    }
 }
 
 /// The example machine file committed as host-sim/examples/machine.toml.
@@ -919,7 +941,8 @@ Kistler DynoWare export (Time, Fx, Fy, Fz): tooth pulses are then derived from -
 --flutes, the feed velocity is --feed-mm-min, and the input is a dynamometer.
 
 CONFIG: a TOML MonitorConfig laid over the defaults, with the alarm detectors in an optional
-[alarms] table (every key optional, unknown keys are errors); example:
+[alarms] table and the board's input scaling in an optional [front_end] table (checked, not
+used by replay) (every key optional, unknown keys are errors); example:
 host-sim/examples/machine.toml. Without sample_rate_hz the trace's rate is
 used. A trace without velocity columns needs feed_velocity = { nominal = [vx, vy] }.
 
@@ -1039,6 +1062,7 @@ pub fn open_replay(args: &ReplayArgs) -> Result<(Box<dyn RowSource>, LoadedConfi
     MachineConfig {
         monitor: loaded.config.clone(),
         alarms: loaded.alarms,
+        front_end: loaded.front_end,
     }
     .build()
     .map_err(|e| anyhow!("{}: {e}", loaded.what))?;

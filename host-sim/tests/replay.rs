@@ -206,6 +206,12 @@ fn machine_file_example_parses_and_builds() {
     ));
     assert!(loaded.sets(&["estimator", "tool", "flutes"]));
     assert!(!loaded.sets(&["sample_rate_hz"]));
+    // The front end: given tables over the defaults, the rest default.
+    let fe = &loaded.front_end;
+    assert_eq!(fe.feed.units_per_volt, 2.0);
+    assert_eq!(fe.feed_encoder.counts_per_mm, 2000.0);
+    assert_eq!(fe.feed_encoder.window_blocks, 32);
+    assert_eq!(fe.spindle, estimator_core::FrontEnd::default().spindle);
     // The committed file is the one the docs show.
     let docs = std::fs::read_to_string(
         PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../docs/formats.md"),
@@ -215,6 +221,34 @@ fn machine_file_example_parses_and_builds() {
         docs.contains(MACHINE_EXAMPLE),
         "docs/formats.md must show host-sim/examples/machine.toml verbatim"
     );
+}
+
+#[test]
+fn machine_file_front_end_is_optional_and_checked() {
+    let d = parse_monitor_config("filter_revs = 3\n", "m.toml", Some(1e4)).expect("parses");
+    assert_eq!(d.front_end, estimator_core::FrontEnd::default());
+    let l = parse_monitor_config(
+        "filter_revs = 3\n[front_end.spindle]\nunits_per_volt = 4.0\n",
+        "m.toml",
+        Some(1e4),
+    )
+    .expect("parses");
+    assert_eq!(l.front_end.spindle.units_per_volt, 4.0);
+    assert_eq!(l.front_end.spindle.front_end_gain, 0.15);
+    assert_eq!(l.config.filter_revs, 3);
+    let e = parse_monitor_config(
+        "[front_end.feed]\nunits_per_volt = 0.0\n",
+        "m.toml",
+        Some(1e4),
+    )
+    .expect_err("zero scaling");
+    assert!(
+        format!("{e:#}").contains("front_end.feed.units_per_volt"),
+        "{e:#}"
+    );
+    let e = parse_monitor_config("[front_end.feed]\ngain = 0.2\n", "m.toml", Some(1e4))
+        .expect_err("typo");
+    assert!(format!("{e:#}").contains("unknown key"), "{e:#}");
 }
 
 #[test]

@@ -56,6 +56,7 @@ fn capture(d: &Path) -> (PathBuf, Vec<RecordFrame>) {
     let pipeline = MachineConfig {
         monitor: cfg.clone(),
         alarms: AlarmConfig::default(),
+        front_end: estimator_core::FrontEnd::default(),
     }
     .build()
     .expect("builds");
