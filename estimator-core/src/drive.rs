@@ -575,7 +575,22 @@ impl SpindleModel {
     /// for NaN input, 0 rpm or 0 radius.
     #[inline(always)]
     pub fn tangential_force_n(&self, mean_value: f32, rpm: f32, radius_mm: f32) -> f32 {
-        let idle = self.idle_signal(rpm);
+        self.force_above_idle_n(mean_value - self.idle_signal(rpm), rpm, radius_mm)
+    }
+
+    /// Inverse of [`Self::tangential_force_n`] for host-sim: the spindle signal (load [%]
+    /// or current [A]) for a tangential force `force_n` [N] at `rpm` and `radius_mm`. Not
+    /// rounded: a FANUC reports whole percent, which the simulator applies itself. At 0 rpm
+    /// a load model returns the idle load (no power without speed).
+    pub fn signal_for_force(&self, force_n: f32, rpm: f32, radius_mm: f32) -> f32 {
+        // Force of one unit of signal above idle, from the same chain as the forward path.
+        self.idle_signal(rpm) + force_n / self.force_above_idle_n(1.0, rpm, radius_mm)
+    }
+
+    /// Force [N] of a signal `above_idle` over the idle signal: paper 003's chain for a
+    /// load input, `K_t i / R` for a current. The one place both directions convert.
+    #[inline(always)]
+    fn force_above_idle_n(&self, above_idle: f32, rpm: f32, radius_mm: f32) -> f32 {
         match self {
             SpindleModel::Load {
                 low_winding_load_ratio,
@@ -589,43 +604,13 @@ impl SpindleModel {
                     *switch_rpm,
                     rpm,
                 );
-                load_chain(mean_value - idle, lr, rpm, radius_mm).force_n
+                load_chain(above_idle, lr, rpm, radius_mm).force_n
             }
             SpindleModel::Current {
                 torque_constant_nm_per_a,
                 ..
-            } => torque_constant_nm_per_a * (mean_value - idle) / (radius_mm * 1e-3),
+            } => torque_constant_nm_per_a * above_idle / (radius_mm * 1e-3),
         }
-    }
-
-    /// Inverse of [`Self::tangential_force_n`] for host-sim: the spindle signal (load [%]
-    /// or current [A]) for a tangential force `force_n` [N] at `rpm` and `radius_mm`. Not
-    /// rounded: a FANUC reports whole percent, which the simulator applies itself. At 0 rpm
-    /// a load model returns the idle load (no power without speed).
-    pub fn signal_for_force(&self, force_n: f32, rpm: f32, radius_mm: f32) -> f32 {
-        let idle = self.idle_signal(rpm);
-        // Force of one unit of signal above idle, from the same chain as the forward path.
-        let force_per_unit_n = match self {
-            SpindleModel::Load {
-                low_winding_load_ratio,
-                high_winding_load_ratio,
-                switch_rpm,
-                ..
-            } => {
-                let lr = load_ratio_at(
-                    low_winding_load_ratio,
-                    high_winding_load_ratio,
-                    *switch_rpm,
-                    rpm,
-                );
-                load_chain(1.0, lr, rpm, radius_mm).force_n
-            }
-            SpindleModel::Current {
-                torque_constant_nm_per_a,
-                ..
-            } => torque_constant_nm_per_a / (radius_mm * 1e-3),
-        };
-        idle + force_n / force_per_unit_n
     }
 
     /// Checks every parameter; errors name the field (`"high_winding_load_ratio"`, ...).

@@ -23,6 +23,8 @@
 //! ([`crate::kistler::KistlerReader`]).
 
 use anyhow::{anyhow, bail, Context, Result};
+use estimator_core::drive::SpindleModel;
+use estimator_core::monitor::Input;
 use estimator_core::Sample;
 use std::collections::VecDeque;
 use std::fs::File;
@@ -182,6 +184,30 @@ pub struct TraceKind {
 }
 
 impl TraceKind {
+    /// The columns of a trace of the board's `input`: currents or forces, a second feed
+    /// axis if the drive has one (always for forces: `fy_n`), the spindle signal its model
+    /// reads. The simulators write what a replay with the same `input` reads.
+    pub fn for_input(input: &Input, has_velocity: bool, has_truth: bool) -> TraceKind {
+        let (feed, two_axis, spindle) = match input {
+            Input::Motor {
+                feed,
+                spindle: SpindleModel::Current { .. },
+            } => (FeedSignal::Current, feed.two_axis, SpindleSignal::Current),
+            Input::Motor {
+                feed,
+                spindle: SpindleModel::Load { .. },
+            } => (FeedSignal::Current, feed.two_axis, SpindleSignal::Load),
+            Input::Dynamometer => (FeedSignal::Force, true, SpindleSignal::None),
+        };
+        TraceKind {
+            feed,
+            two_axis,
+            has_velocity,
+            spindle,
+            has_truth,
+        }
+    }
+
     /// Checks the combination: a motor-current trace needs a spindle column (the motor
     /// route's second force), a force trace both forces.
     pub fn validate(&self) -> Result<()> {

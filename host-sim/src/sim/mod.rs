@@ -41,12 +41,10 @@ pub use scenario::{
     SignalChain, ToolSpec, Workpiece, MAX_FLUTES,
 };
 
-use crate::trace::{FeedSignal, SpindleSignal, TraceKind, TraceRow, TraceWriter, Truth};
+use crate::trace::{TraceKind, TraceRow, TraceWriter, Truth};
 use anyhow::Result;
 use chain::{Board, BoardInput};
 use cutter::{Cut, Cutter};
-use estimator_core::drive::SpindleModel;
-use estimator_core::monitor::Input;
 use std::f64::consts::TAU;
 use std::io::Write;
 
@@ -232,24 +230,7 @@ pub fn simulate(sc: &Scenario, mut out: impl FnMut(&TraceRow) -> Result<()>) -> 
 /// The columns a scenario's trace has: currents or forces by its `input`, the second feed
 /// axis if the drive has one, velocity and truth as `[output]` says.
 pub fn trace_kind(sc: &Scenario) -> TraceKind {
-    let (feed, two_axis, spindle) = match &sc.input {
-        Input::Motor {
-            feed,
-            spindle: SpindleModel::Current { .. },
-        } => (FeedSignal::Current, feed.two_axis, SpindleSignal::Current),
-        Input::Motor {
-            feed,
-            spindle: SpindleModel::Load { .. },
-        } => (FeedSignal::Current, feed.two_axis, SpindleSignal::Load),
-        Input::Dynamometer => (FeedSignal::Force, true, SpindleSignal::None),
-    };
-    TraceKind {
-        feed,
-        two_axis,
-        has_velocity: sc.output.velocity,
-        spindle,
-        has_truth: sc.output.truth,
-    }
+    TraceKind::for_input(&sc.input, sc.output.velocity, sc.output.truth)
 }
 
 /// Simulates `sc` into a raw trace CSV (docs/formats.md) on `w`; returns the summary and

@@ -49,9 +49,8 @@ use super::cutter::Cutter;
 use super::VoxelSample;
 use crate::sim::chain::{self, Board, BoardInput, SyncGen};
 use crate::sim::{Scenario, SignalChain, ToolSpec};
-use crate::trace::{FeedSignal, SpindleSignal, TraceKind, TraceRow, Truth};
+use crate::trace::{TraceKind, TraceRow, Truth};
 use anyhow::{bail, Context, Result};
-use estimator_core::drive::SpindleModel;
 use estimator_core::monitor::Input;
 use estimator_core::tooth::SyncMode;
 use estimator_core::MonitorConfig;
@@ -168,24 +167,7 @@ impl BoardSpec {
 
     /// The columns of the trace: currents or forces by `input`, velocities, truth.
     pub fn trace_kind(&self) -> TraceKind {
-        let (feed, two_axis, spindle) = match &self.input {
-            Input::Motor {
-                feed,
-                spindle: SpindleModel::Current { .. },
-            } => (FeedSignal::Current, feed.two_axis, SpindleSignal::Current),
-            Input::Motor {
-                feed,
-                spindle: SpindleModel::Load { .. },
-            } => (FeedSignal::Current, feed.two_axis, SpindleSignal::Load),
-            Input::Dynamometer => (FeedSignal::Force, true, SpindleSignal::None),
-        };
-        TraceKind {
-            feed,
-            two_axis,
-            has_velocity: true,
-            spindle,
-            has_truth: true,
-        }
+        TraceKind::for_input(&self.input, true, true)
     }
 }
 
