@@ -98,11 +98,22 @@ fn line_of(text: &str, offset: usize) -> usize {
 }
 
 /// The estimator configuration: defaults, overridden by the tool file if one is given.
+/// A machine file (replay's `--config`, what `calibrate` writes) serves as a tool file too:
+/// its `[estimator]` table is used and the rest (drives, alarms) ignored.
 pub fn load_estimator_config(tool_file: Option<&Path>) -> Result<EstimatorConfig> {
     let base = EstimatorConfig::default();
-    match tool_file {
-        None => Ok(base),
-        Some(path) => override_from(&base, &read(path)?, &path.display().to_string()),
+    let Some(path) = tool_file else {
+        return Ok(base);
+    };
+    let text = read(path)?;
+    let file = path.display().to_string();
+    let table: toml::Table = parse_toml(&text, &file)?;
+    match table.get("estimator") {
+        Some(toml::Value::Table(est)) => {
+            let sub = toml::to_string(est).map_err(|e| anyhow!("{file}: {e}"))?;
+            override_from(&base, &sub, &format!("{file} [estimator]"))
+        }
+        _ => override_from(&base, &text, &file),
     }
 }
 

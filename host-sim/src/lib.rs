@@ -5,6 +5,7 @@
 //!
 //! - [`gen_poly`]: fits the `f_xt` polynomials and writes `estimator-core/src/fxt_poly.rs`.
 //! - [`estimate`]: per-tooth forces in a CSV -> immersion estimates.
+//! - [`calibrate`]: friction, spindle idle and cutting coefficients from the user's machine.
 //! - [`config`]: the TOML files (tool, coefficients).
 //! - [`lstsq`]: least squares by Householder QR, for the fit.
 //! - [`trace`]: the raw trace CSV (reader, writer) and the binary samples of the QEMU image.
@@ -14,6 +15,7 @@
 //! - [`demo`]: a built-in cut simulated, replayed, tabulated and plotted (`demo`).
 //! - [`telemetry`]: the board's UART telemetry capture -> records CSV (`decode-telemetry`).
 
+pub mod calibrate;
 pub mod config;
 pub mod demo;
 pub mod estimate;

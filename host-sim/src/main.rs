@@ -68,6 +68,9 @@ enum Command {
     /// depths of cut and the alarm, write a plot and the CSVs (start here).
     #[command(after_help = host_sim::demo::DEMO_HELP)]
     Demo(host_sim::demo::DemoArgs),
+    /// Identify the machine's constants: feed friction, spindle idle, cutting coefficients.
+    #[command(subcommand)]
+    Calibrate(host_sim::calibrate::CalibrateCmd),
     /// Decode a capture of the board's UART telemetry into the per-tooth records CSV.
     #[command(after_help = host_sim::telemetry::DECODE_HELP)]
     DecodeTelemetry(host_sim::telemetry::DecodeArgs),
@@ -90,7 +93,8 @@ enum Command {
         /// Per-tooth CSV (see below).
         #[arg(long, value_name = "FILE")]
         input: PathBuf,
-        /// Tool and cutting settings (TOML) overriding the defaults below.
+        /// Tool and cutting settings (TOML) overriding the defaults below; a machine file
+        /// (replay's --config, what `calibrate` writes) works too: its [estimator] table.
         #[arg(long, value_name = "FILE")]
         tool: Option<PathBuf>,
         /// Output CSV; default: standard output.
@@ -245,6 +249,7 @@ fn run(cli: Cli) -> Result<()> {
         Command::TraceBin { trace, output } => trace_bin_cmd(&trace, &output),
         Command::BenchReplay { seconds, repeat } => bench_replay_cmd(seconds, repeat),
         Command::Voxel(args) => host_sim::voxel::run(&args),
+        Command::Calibrate(cmd) => host_sim::calibrate::run(&cmd),
         Command::Demo(args) => host_sim::demo::run(&args).map(drop),
         Command::DecodeTelemetry(args) => host_sim::telemetry::run(&args).map(drop),
         Command::EvaluateAlarms {

@@ -539,3 +539,75 @@ fn status_strip<DB: DrawingBackend>(
     }
     Ok(())
 }
+
+/// One panel of [`render_fits`]: measured points and the fitted curves through them.
+#[derive(Clone, Debug, Default)]
+pub struct FitPanel {
+    /// Caption.
+    pub title: String,
+    /// Axis labels `(x, y)`.
+    pub labels: (String, String),
+    /// Measured points.
+    pub points: Vec<(f64, f64)>,
+    /// Fitted curves, each a polyline.
+    pub curves: Vec<Vec<(f64, f64)>>,
+    /// Logarithmic axes (power laws).
+    pub log: bool,
+}
+
+/// Renders calibration fits as an SVG, one panel per fit, stacked.
+pub fn render_fits(title: &str, panels: &[FitPanel]) -> Result<String> {
+    register_font();
+    let (w, ph) = (SIZE.0, 320u32);
+    let mut s = String::new();
+    {
+        let root = SVGBackend::with_string(&mut s, (w, 40 + ph * panels.len().max(1) as u32))
+            .into_drawing_area();
+        root.fill(&WHITE).map_err(pe)?;
+        let (head, mut rest) = root.split_vertically(40);
+        head.titled(title, ("sans-serif", 22)).map_err(pe)?;
+        for p in panels {
+            let (area, below) = rest.split_vertically(ph);
+            rest = below;
+            let all = || p.points.iter().chain(p.curves.iter().flatten());
+            let tf = |v: f64| if p.log { v.abs().max(1e-12).log10() } else { v };
+            let (x0, x1) = range(all().map(|q| tf(q.0)));
+            let (y0, y1) = range(all().map(|q| tf(q.1)));
+            let (xl, yl) = if p.log {
+                (
+                    format!("log10 {}", p.labels.0),
+                    format!("log10 {}", p.labels.1),
+                )
+            } else {
+                p.labels.clone()
+            };
+            let mut chart = ChartBuilder::on(&area)
+                .margin(8)
+                .x_label_area_size(36)
+                .y_label_area_size(70)
+                .caption(&p.title, ("sans-serif", 18))
+                .build_cartesian_2d(x0..x1, y0..y1)
+                .map_err(pe)?;
+            chart
+                .configure_mesh()
+                .x_desc(xl)
+                .y_desc(yl)
+                .draw()
+                .map_err(pe)?;
+            for c in &p.curves {
+                chart
+                    .draw_series(LineSeries::new(c.iter().map(|q| (tf(q.0), tf(q.1))), &BLUE))
+                    .map_err(pe)?;
+            }
+            chart
+                .draw_series(
+                    p.points
+                        .iter()
+                        .map(|q| Circle::new((tf(q.0), tf(q.1)), 4, RED.filled())),
+                )
+                .map_err(pe)?;
+        }
+        root.present().map_err(pe)?;
+    }
+    Ok(s)
+}

@@ -1,0 +1,268 @@
+//! The whole calibration on simulated recordings of a machine whose constants are known:
+//! air moves -> friction, a speed sweep -> spindle idle, cuts of known engagement with the
+//! paper's Table 2 material -> cutting coefficients, each step reading the machine file the
+//! step before wrote. Noise, friction, a current offset and a broken idle line are in the
+//! simulation; the recovered constants must match the simulated ones within the tolerances
+//! README.md states ("Calibrate your machine").
+
+use estimator_core::drive::SpindleModel;
+use estimator_core::monitor::Input;
+use estimator_core::TABLE2;
+use host_sim::calibrate::{run, CalibrateCmd, Common};
+use host_sim::replay::load_monitor_config;
+use host_sim::sim::{self, scenario::Scenario};
+use std::path::{Path, PathBuf};
+
+fn dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("calibrate-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).expect("temp dir");
+    d
+}
+
+/// The simulated machine: the drive's data-sheet constants, its friction and offset, the
+/// spindle's torque constant and idle current (a slope change at 6000 rpm).
+const MACHINE: &str = r#"
+sample_rate_hz = 10000.0
+seed = 7
+material = "table2"
+[tool]
+radius_mm = 8.0
+flutes = 4
+helix_deg = 30.0
+[input.motor.feed]
+two_axis = false
+[[input.motor.feed.axes]]
+torque_constant_nm_per_a = 1.2
+screw_lead_mm = 10.0
+efficiency = 0.9
+current_offset_a = 0.05
+coulomb_n = 40.0
+viscous_n_per_mm_min = 0.02
+stiction_band_mm_min = 1.0
+sign = 1.0
+[[input.motor.feed.axes]]
+torque_constant_nm_per_a = 1.2
+screw_lead_mm = 10.0
+efficiency = 0.9
+current_offset_a = 0.0
+coulomb_n = 0.0
+viscous_n_per_mm_min = 0.0
+stiction_band_mm_min = 1.0
+sign = 1.0
+[input.motor.spindle.current]
+torque_constant_nm_per_a = 0.8
+idle_current_a = [
+  { from_rpm = 0.0, slope = 1e-4, intercept = 0.5 },
+  { from_rpm = 6000.0, slope = 3e-4, intercept = -0.7 },
+]
+[signal]
+feed_noise = 0.01
+spindle_noise = 0.05
+feed_lag_s = 0.0005
+spindle_lag_s = 0.002
+"#;
+
+/// What the user knows before calibrating: the data sheets, no friction, no idle.
+const BASE: &str = r#"
+max_rpm = 15000.0
+[estimator]
+mode = "down"
+[estimator.tool]
+radius_mm = 8.0
+flutes = 4
+helix_deg = 30.0
+[input.motor.feed]
+two_axis = false
+[[input.motor.feed.axes]]
+torque_constant_nm_per_a = 1.2
+screw_lead_mm = 10.0
+efficiency = 0.9
+current_offset_a = 0.0
+coulomb_n = 0.0
+viscous_n_per_mm_min = 0.0
+stiction_band_mm_min = 1.0
+sign = 1.0
+[[input.motor.feed.axes]]
+torque_constant_nm_per_a = 1.2
+screw_lead_mm = 10.0
+efficiency = 0.9
+current_offset_a = 0.0
+coulomb_n = 0.0
+viscous_n_per_mm_min = 0.0
+stiction_band_mm_min = 1.0
+sign = 1.0
+[input.motor.spindle.current]
+torque_constant_nm_per_a = 0.8
+idle_current_a = [{ from_rpm = 0.0, slope = 0.0, intercept = 0.0 }]
+"#;
+
+fn simulate(d: &Path, name: &str, segments: &str) -> PathBuf {
+    let text = format!("{MACHINE}\n{segments}");
+    let sc = Scenario::from_toml(&text, name).expect("scenario");
+    let path = d.join(format!("{name}.csv"));
+    let f = std::io::BufWriter::new(std::fs::File::create(&path).expect("trace file"));
+    sim::write_trace(&sc, f).expect("simulate");
+    path
+}
+
+fn common(d: &Path, config: Option<&Path>, output: &str) -> Common {
+    Common {
+        config: config.map(Path::to_path_buf),
+        output: d.join(output),
+        report_dir: Some(d.join("report")),
+    }
+}
+
+fn rel(got: f32, want: f32) -> f32 {
+    (got / want - 1.0).abs()
+}
+
+#[test]
+fn whole_calibration_recovers_the_simulated_machine() {
+    let d = dir("whole");
+    // 1. Air moves: 200, 800, 2400 mm/min each way, the spindle turning.
+    let mut air = String::new();
+    for (v, angle) in [
+        (200.0, 0.0),
+        (200.0, 180.0),
+        (800.0, 0.0),
+        (800.0, 180.0),
+        (2400.0, 0.0),
+        (2400.0, 180.0),
+    ] {
+        air += &format!(
+            "[[segment]]\nduration_s = 1.2\nrpm = 1000.0\nfeed_mm_min = {v}\ndr_mm = 0.0\n\
+             da_mm = 0.0\nfeed_angle_deg = {angle}\n"
+        );
+    }
+    let air = simulate(&d, "air", &air);
+    // 2. Speed sweep, no feed.
+    let mut sweep = String::new();
+    for rpm in [
+        500.0, 1500.0, 2500.0, 3500.0, 4500.0, 5500.0, 7000.0, 8500.0, 10000.0, 12000.0,
+    ] {
+        sweep += &format!(
+            "[[segment]]\nduration_s = 1.0\nrpm = {rpm}\nfeed_mm_min = 0.0\ndr_mm = 0.0\n\
+             da_mm = 0.0\n"
+        );
+    }
+    let sweep = simulate(&d, "sweep", &sweep);
+    // 3. Cuts: R_r 0.5, 1, 2 at Table 2's feeds, R_a 0.5, 600 rpm, 2.5 s each.
+    let (mut cuts, mut plan, mut t) = (String::new(), String::new(), 0.0);
+    for dr in [4.0, 8.0, 16.0] {
+        for tc in [0.1042, 0.2, 0.3, 0.4667] {
+            cuts += &format!(
+                "[[segment]]\nduration_s = 2.5\nrpm = 600.0\nfeed_mm_min = {}\ndr_mm = {dr}\n\
+                 da_mm = 4.0\n",
+                tc * 4.0 * 600.0
+            );
+            plan += &format!(
+                "[[cut]]\ntrace = \"cuts.csv\"\ndr_mm = {dr}\nda_mm = 4.0\nfrom_s = {}\nto_s = {}\n",
+                t + 1.0,
+                t + 2.5
+            );
+            t += 2.5;
+        }
+    }
+    simulate(&d, "cuts", &cuts);
+    std::fs::write(d.join("plan.toml"), plan).expect("plan");
+    std::fs::write(d.join("base.toml"), BASE).expect("base");
+
+    run(&CalibrateCmd::Friction {
+        common: common(&d, Some(&d.join("base.toml")), "m1.toml"),
+        traces: vec![air],
+    })
+    .expect("calibrate friction");
+    run(&CalibrateCmd::Spindle {
+        common: common(&d, Some(&d.join("m1.toml")), "m2.toml"),
+        breaks: None,
+        traces: vec![sweep],
+    })
+    .expect("calibrate spindle");
+    run(&CalibrateCmd::Cutting {
+        common: common(&d, Some(&d.join("m2.toml")), "m3.toml"),
+        plan: d.join("plan.toml"),
+        poly_output: None,
+        linear_output: None,
+    })
+    .expect("calibrate cutting");
+
+    let m = load_monitor_config(Some(&d.join("m3.toml")), Some(10_000.0))
+        .expect("calibrated machine file");
+    let Input::Motor { feed, spindle } = &m.config.input else {
+        panic!("motor input expected");
+    };
+    let x = &feed.axes[0];
+    eprintln!("{x:?}\n{spindle:?}\n{:?}", m.config.estimator.coeffs);
+    assert!((x.current_offset_a - 0.05).abs() < 0.002, "{x:?}");
+    assert!(rel(x.coulomb_n, 40.0) < 0.05, "{x:?}");
+    assert!(rel(x.viscous_n_per_mm_min, 0.02) < 0.05, "{x:?}");
+    let SpindleModel::Current { idle_current_a, .. } = spindle else {
+        panic!("current model expected");
+    };
+    // The idle line: within 1 % at every speed of the sweep (the break is found between
+    // 5500 and 7000 rpm).
+    let want = |rpm: f32| {
+        if rpm < 6000.0 {
+            0.5 + 1e-4 * rpm
+        } else {
+            -0.7 + 3e-4 * rpm
+        }
+    };
+    for rpm in [500.0f32, 3000.0, 5500.0, 7000.0, 9000.0, 12000.0] {
+        let got = idle_current_a.eval(rpm);
+        assert!(
+            rel(got, want(rpm)) < 0.01,
+            "idle at {rpm}: {got} vs {}",
+            want(rpm)
+        );
+    }
+    assert_eq!(idle_current_a.lines.len(), 2, "{idle_current_a:?}");
+    let c = m.config.estimator.coeffs;
+    assert!(rel(c.ks.k, TABLE2.ks.k) < 0.03, "{c:?}");
+    assert!((c.ks.p - TABLE2.ks.p).abs() < 0.02, "{c:?}");
+    assert!(rel(c.r1.k, TABLE2.r1.k) < 0.05, "{c:?}");
+    assert!((c.r1.p - TABLE2.r1.p).abs() < 0.04, "{c:?}");
+    assert_eq!(c.r2, TABLE2.r2, "r2 kept: no axial force");
+    assert!(rel(c.tc_fit_mm.0, 0.1042) < 0.01 && rel(c.tc_fit_mm.1, 0.4667) < 0.01);
+    // The polynomial, the linear set and the reports are written beside.
+    for f in [
+        "m3.fxt_poly.rs",
+        "m3.linear.toml",
+        "report/friction.svg",
+        "report/cutting.md",
+    ] {
+        assert!(d.join(f).is_file(), "{f} missing");
+    }
+    // The calibrated machine file drives replay: depths of the cuts come back.
+    let mut reader = host_sim::trace::TraceReader::open(&d.join("cuts.csv")).expect("cuts trace");
+    let mut cfg = m.config.clone();
+    cfg.sample_rate_hz = 10_000.0;
+    let mut err = Vec::new();
+    host_sim::replay::replay(&mut reader, &cfg, |rec, truth| {
+        if rec.status.is_valid() && truth.dr_mm.is_finite() {
+            err.push((
+                (rec.dr_mm / truth.dr_mm - 1.0).abs(),
+                (rec.da_mm / truth.da_mm - 1.0).abs(),
+            ));
+        }
+    })
+    .expect("replay");
+    assert!(err.len() > 300, "{} valid records", err.len());
+    let p95 = |k: usize| {
+        let mut v: Vec<f32> = err.iter().map(|e| if k == 0 { e.0 } else { e.1 }).collect();
+        v.sort_by(f32::total_cmp);
+        v[v.len() * 95 / 100]
+    };
+    assert!(
+        p95(0) < 0.05 && p95(1) < 0.05,
+        "p95 d_r {} d_a {}",
+        p95(0),
+        p95(1)
+    );
+    // ... and `estimate` reads its [estimator] table as a tool file.
+    let est = host_sim::config::load_estimator_config(Some(&d.join("m3.toml"))).expect("tool file");
+    assert_eq!(est, m.config.estimator);
+    let _ = std::fs::remove_dir_all(&d);
+}
