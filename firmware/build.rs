@@ -7,6 +7,11 @@
 //!   tiny built-in trace is written there, so that plain builds work. Its size is checked
 //!   against the flash it must fit in.
 //!
+//! - The machine configuration: `FIRMWARE_MACHINE_RS=path` (Rust source written by
+//!   `host-sim machine-rs` from a machine file; relative paths from the workspace root) is
+//!   copied to `OUT_DIR/machine.rs`; without it the core's default `MachineConfig` is
+//!   written there. `config.rs` includes it.
+//!
 //! Note: the host build (empty mains) must not see the link scripts, so they are gated on
 //! the target OS cargo is building for, not on the OS the build script runs on.
 
@@ -20,7 +25,9 @@ fn main() {
     let out = PathBuf::from(env::var_os("OUT_DIR").expect("OUT_DIR"));
     println!("cargo:rerun-if-changed=build.rs");
     println!("cargo:rerun-if-env-changed=FIRMWARE_TRACE");
+    println!("cargo:rerun-if-env-changed=FIRMWARE_MACHINE_RS");
     trace(&manifest, &out);
+    machine(&manifest, &out);
 
     if env::var("CARGO_CFG_TARGET_OS").as_deref() != Ok("none") {
         return;
@@ -32,6 +39,30 @@ fn main() {
     println!("cargo:rerun-if-changed={}", memory_x.display());
     println!("cargo:rustc-link-arg-bins=-Tlink.x");
     println!("cargo:rustc-link-arg-bins=-Tdefmt.x");
+}
+
+/// Writes `OUT_DIR/machine.rs` from `FIRMWARE_MACHINE_RS` or the default configuration.
+fn machine(manifest: &std::path::Path, out: &std::path::Path) {
+    let dst = out.join("machine.rs");
+    let Some(src) = env::var_os("FIRMWARE_MACHINE_RS").filter(|s| !s.is_empty()) else {
+        let default =
+            "/// The machine configuration the board is built with (the core's default).\n\
+                       pub fn machine() -> estimator_core::MachineConfig {\n    \
+                       estimator_core::MachineConfig::default()\n}\n\
+                       /// No machine file: nothing to compare with.\n\
+                       pub const MACHINE_DEBUG: Option<&str> = None;\n";
+        fs::write(&dst, default).expect("write OUT_DIR/machine.rs");
+        return;
+    };
+    let src = manifest.join("..").join(PathBuf::from(src));
+    println!("cargo:rerun-if-changed={}", src.display());
+    fs::copy(&src, &dst).unwrap_or_else(|e| {
+        panic!(
+            "FIRMWARE_MACHINE_RS={}: {e} (write it with `host-sim machine-rs --config <machine \
+             file> --output <it>`)",
+            src.display()
+        )
+    });
 }
 
 /// Writes `OUT_DIR/trace.bin` from `FIRMWARE_TRACE` or the built-in trace.

@@ -74,6 +74,7 @@ fi
 # --- slow tests: QEMU (tests/target-check) and data under ../shared/data -------------------
 # Every `#[ignore]`d test of every member runs here; mark new slow tests `#[ignore]` and they
 # are picked up without touching this script.
+step bash tests/calibrated-firmware.sh
 step cargo test --workspace -- --ignored
 
 # --- the user's commands, end to end ---------------------------------------------------------

@@ -141,6 +141,7 @@ impl EstimatorConfig {
         }
         let poly = crate::fxt_poly::ALL
             .iter()
+            .chain(crate::fxt_poly_user::ALL)
             .find(|p| p.fits(&self.coeffs, self.mode));
         if self.solver == Solver::Polynomial && poly.is_none() {
             return Err(ConfigError::NoPolynomial);

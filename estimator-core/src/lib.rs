@@ -22,6 +22,11 @@ pub mod fmath;
 pub mod forward;
 pub mod frontend;
 pub mod fxt_poly;
+/// `f_xt` polynomials of calibrated coefficients, compiled in from `ESTIMATOR_FXT_POLY`
+/// (see build.rs); empty without it.
+pub mod fxt_poly_user {
+    include!(concat!(env!("OUT_DIR"), "/fxt_poly_user.rs"));
+}
 pub mod geometry;
 pub mod invert;
 pub mod monitor;

@@ -14,8 +14,12 @@
 //!   firmware is built with; [`BoardConfig::build`] checks it once at start-up, with errors
 //!   that name the parameter, and the per-sample path cannot fail afterwards.
 //!
-//! To run another tool or machine, edit [`BoardConfig::board_default`] (the fields are the
-//! ones of `host-sim/examples/machine.toml`, in Rust) and rebuild; the board refuses to
+//! To run another tool or machine, build with its machine file (the one `host-sim replay`
+//! reads and `host-sim calibrate` writes) turned into Rust:
+//! `host-sim machine-rs --config machine.toml --output machine.rs`, then
+//! `FIRMWARE_MACHINE_RS=machine.rs cargo build -p firmware ...` ([`machine_file`]; the
+//! polynomial of calibrated coefficients comes in through `ESTIMATOR_FXT_POLY`, see
+//! estimator-core's build.rs). Without it the board runs the core's defaults. The board refuses to
 //! start its alarm output on a configuration that does not build (the relay stays
 //! de-energised, the LED blinks the error, defmt logs the parameter).
 //!
@@ -29,6 +33,12 @@
 use estimator_core::monitor::Input;
 pub use estimator_core::{AnalogInput, FeedEncoder, FrontEnd};
 use estimator_core::{ConfigError, MachineConfig, Pipeline};
+
+/// The machine configuration compiled in: `OUT_DIR/machine.rs`, from `FIRMWARE_MACHINE_RS`
+/// (see build.rs) or the core's default.
+pub mod machine_file {
+    include!(concat!(env!("OUT_DIR"), "/machine.rs"));
+}
 
 /// APB1 timer clock [Hz]: the sample trigger (TIM3) and the sample counter (TIM2).
 pub const TIMER_CLOCK_HZ: u32 = 84_000_000;
@@ -94,14 +104,14 @@ pub struct BoardConfig {
 }
 
 impl BoardConfig {
-    /// What the firmware is built with: `MachineConfig::default()` (the paper's tool, one
-    /// feed axis, current-sensed spindle, 20 kS/s, default alarms, and the default
-    /// [`FrontEnd`]: ±10 V check terminals scaled 3 A/V (feed) and 5 A/V (spindle), a
-    /// 1 000 counts/mm feed encoder over 64 blocks), every record sent. Edit here for
-    /// another machine (see the module docs).
+    /// What the firmware is built with: the machine file of `FIRMWARE_MACHINE_RS`, else
+    /// `MachineConfig::default()` (the paper's tool, one feed axis, current-sensed spindle,
+    /// 20 kS/s, default alarms, and the default [`FrontEnd`]: ±10 V check terminals scaled
+    /// 3 A/V (feed) and 5 A/V (spindle), a 1 000 counts/mm feed encoder over 64 blocks),
+    /// every record sent (see the module docs).
     pub fn board_default() -> Self {
         BoardConfig {
-            machine: MachineConfig::default(),
+            machine: machine_file::machine(),
             telemetry: TelemetryConfig { record_every: 1 },
         }
     }
@@ -212,6 +222,18 @@ pub fn trigger_period_ticks(clock_hz: u32, sample_rate_hz: f32) -> Option<u32> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A machine file compiled in is the configuration host-sim loaded from it, field for
+    /// field (f32 Debug prints the shortest round-trip digits, so equal text is equal bits).
+    #[test]
+    fn machine_file_is_what_host_sim_loaded() {
+        if let Some(want) = machine_file::MACHINE_DEBUG {
+            assert_eq!(std::format!("{:?}", machine_file::machine()), want);
+            machine_file::machine()
+                .build()
+                .expect("the machine file builds");
+        }
+    }
 
     #[test]
     fn default_board_builds_at_20_ks() {

@@ -7,6 +7,7 @@
 //! - [`estimate`]: per-tooth forces in a CSV -> immersion estimates.
 //! - [`calibrate`]: friction, spindle idle and cutting coefficients from the user's machine.
 //! - [`config`]: the TOML files (tool, coefficients).
+//! - [`machine_rs`]: a machine file as Rust source for the firmware build (`machine-rs`).
 //! - [`lstsq`]: least squares by Householder QR, for the fit.
 //! - [`trace`]: the raw trace CSV (reader, writer) and the binary samples of the QEMU image.
 //! - [`replay`]: a trace through the streaming Monitor (`replay`, `bench-replay`), writing
@@ -23,6 +24,7 @@ pub mod evaluate;
 pub mod gen_poly;
 pub mod kistler;
 pub mod lstsq;
+pub mod machine_rs;
 pub mod plot;
 pub mod records;
 pub mod replay;

@@ -71,6 +71,16 @@ enum Command {
     /// Identify the machine's constants: feed friction, spindle idle, cutting coefficients.
     #[command(subcommand)]
     Calibrate(host_sim::calibrate::CalibrateCmd),
+    /// Write a machine file as Rust source for the firmware build
+    /// (FIRMWARE_MACHINE_RS=<output> cargo build -p firmware ...).
+    MachineRs {
+        /// Machine file (replay's --config, what `calibrate` writes).
+        #[arg(long, value_name = "FILE")]
+        config: PathBuf,
+        /// Rust source to write.
+        #[arg(long, value_name = "FILE")]
+        output: PathBuf,
+    },
     /// Decode a capture of the board's UART telemetry into the per-tooth records CSV.
     #[command(after_help = host_sim::telemetry::DECODE_HELP)]
     DecodeTelemetry(host_sim::telemetry::DecodeArgs),
@@ -249,6 +259,7 @@ fn run(cli: Cli) -> Result<()> {
         Command::TraceBin { trace, output } => trace_bin_cmd(&trace, &output),
         Command::BenchReplay { seconds, repeat } => bench_replay_cmd(seconds, repeat),
         Command::Voxel(args) => host_sim::voxel::run(&args),
+        Command::MachineRs { config, output } => machine_rs_cmd(&config, &output),
         Command::Calibrate(cmd) => host_sim::calibrate::run(&cmd),
         Command::Demo(args) => host_sim::demo::run(&args).map(drop),
         Command::DecodeTelemetry(args) => host_sim::telemetry::run(&args).map(drop),
@@ -260,6 +271,25 @@ fn run(cli: Cli) -> Result<()> {
             verbose,
         } => evaluate_cmd(set, seed, threads, check, verbose),
     }
+}
+
+fn machine_rs_cmd(config: &Path, output: &Path) -> Result<()> {
+    // Without sample_rate_hz in the file, the board's default rate.
+    let rate = f64::from(estimator_core::MonitorConfig::default().sample_rate_hz);
+    let m = replay::load_monitor_config(Some(config), Some(rate))?;
+    let machine = estimator_core::MachineConfig {
+        monitor: m.config,
+        alarms: m.alarms,
+        front_end: m.front_end,
+    };
+    machine
+        .clone()
+        .build()
+        .map_err(|e| anyhow::anyhow!("{}: {e}", config.display()))?;
+    let text = host_sim::machine_rs::render(&machine, &config.display().to_string())?;
+    write_then_rename(output, |w| w.write_all(text.as_bytes()).map_err(Into::into))?;
+    eprintln!("wrote {}", output.display());
+    Ok(())
 }
 
 fn evaluate_cmd(set: SetArg, seed: u64, threads: usize, check: bool, verbose: bool) -> Result<()> {

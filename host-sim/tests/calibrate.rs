@@ -3,7 +3,8 @@
 //! paper's Table 2 material -> cutting coefficients, each step reading the machine file the
 //! step before wrote. Noise, friction, a current offset and a broken idle line are in the
 //! simulation; the recovered constants must match the simulated ones within the tolerances
-//! README.md states ("Calibrate your machine").
+//! README.md states ("Calibrate your machine"). What it writes stays in
+//! `target/tmp/calibrate-whole/` for tests/all.sh's firmware build with it.
 
 use estimator_core::drive::SpindleModel;
 use estimator_core::monitor::Input;
@@ -13,8 +14,9 @@ use host_sim::replay::load_monitor_config;
 use host_sim::sim::{self, scenario::Scenario};
 use std::path::{Path, PathBuf};
 
+/// Kept after the test: tests/all.sh builds the firmware from what it writes there.
 fn dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("calibrate-{}-{name}", std::process::id()));
+    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("calibrate-{name}"));
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).expect("temp dir");
     d
@@ -264,5 +266,13 @@ fn whole_calibration_recovers_the_simulated_machine() {
     // ... and `estimate` reads its [estimator] table as a tool file.
     let est = host_sim::config::load_estimator_config(Some(&d.join("m3.toml"))).expect("tool file");
     assert_eq!(est, m.config.estimator);
-    let _ = std::fs::remove_dir_all(&d);
+    // For the firmware build of tests/all.sh: the machine as Rust (the polynomial is
+    // already beside it).
+    let machine = estimator_core::MachineConfig {
+        monitor: m.config.clone(),
+        alarms: m.alarms,
+        front_end: m.front_end,
+    };
+    let rs = host_sim::machine_rs::render(&machine, "m3.toml").expect("machine-rs");
+    std::fs::write(d.join("m3.machine.rs"), rs).expect("write m3.machine.rs");
 }
