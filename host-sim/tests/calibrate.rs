@@ -276,3 +276,41 @@ fn whole_calibration_recovers_the_simulated_machine() {
     let rs = host_sim::machine_rs::render(&machine, "m3.toml").expect("machine-rs");
     std::fs::write(d.join("m3.machine.rs"), rs).expect("write m3.machine.rs");
 }
+
+/// What a calibration cannot tell from the recordings is an error that says what to record.
+#[test]
+fn missing_recordings_are_errors_that_say_what_to_record() {
+    let d = dir("errors");
+    std::fs::write(d.join("base.toml"), BASE).expect("base");
+    let one_way = simulate(
+        &d,
+        "one_way",
+        "[[segment]]\nduration_s = 1.0\nrpm = 1000.0\nfeed_mm_min = 300.0\ndr_mm = 0.0\nda_mm = 0.0\n\
+         [[segment]]\nduration_s = 1.0\nfeed_mm_min = 900.0\n",
+    );
+    let no_v = simulate(
+        &d,
+        "no_velocity",
+        "[output]\nvelocity = false\n[[segment]]\nduration_s = 1.0\nrpm = 1000.0\n\
+         feed_mm_min = 300.0\ndr_mm = 0.0\nda_mm = 0.0\n",
+    );
+    let err = |cmd: CalibrateCmd| format!("{:#}", run(&cmd).expect_err("accepted"));
+    let friction = |trace: PathBuf| CalibrateCmd::Friction {
+        common: common(&d, Some(&d.join("base.toml")), "out.toml"),
+        traces: vec![trace],
+    };
+    let e = err(friction(one_way.clone()));
+    assert!(e.contains("both directions"), "{e}");
+    let e = err(friction(no_v));
+    assert!(e.contains("feed_vx_mm_min"), "{e}");
+    let e = err(CalibrateCmd::Spindle {
+        common: common(&d, Some(&d.join("base.toml")), "out.toml"),
+        breaks: None,
+        traces: vec![one_way],
+    });
+    assert!(e.contains("at least two"), "{e}");
+    assert!(
+        !d.join("out.toml").exists(),
+        "a failed step wrote its output"
+    );
+}

@@ -19,7 +19,8 @@
 //!   least-squares system whose columns are that function at unit coefficients. For
 //!   slotting cuts this is paper 003's `K_tc = 4 slope(F_ay vs t_c) / (N a)`.
 //!
-//! The per-tooth means come from the records the Monitor marks as steady cutting; its
+//! The per-tooth means come from the records the Monitor marks as steady cutting (replayed
+//! here from a raw trace, or a records file from `replay` or the board's telemetry); its
 //! estimation flags (`tc_out_of_range`, clamps) are ignored, since they judge the very
 //! coefficients being identified.
 
@@ -70,7 +71,9 @@ pub struct PlanCut {
     /// Raw trace (relative paths: from the plan file's directory).
     #[serde(default)]
     pub trace: Option<PathBuf>,
-    /// Or a per-tooth CSV: `tc_mm`, `fx_n` and `ft_n` or `fy_n`, optionally `fz_n`.
+    /// Or a per-tooth CSV: `tc_mm`, `fx_n` and `ft_n` or `fy_n`, optionally `fz_n`; or a
+    /// records file of `replay` or `decode-telemetry` (`f2_n`, and `status` picks the
+    /// steady teeth).
     #[serde(default)]
     pub teeth: Option<PathBuf>,
     /// Radial depth [mm].
@@ -212,7 +215,7 @@ pub fn read_cuts(plan_path: &Path, cfg: &MonitorConfig) -> Result<Vec<CutPoint>>
                 if cut.from_s.is_some() || cut.to_s.is_some() {
                     bail!("{at}: from_s / to_s apply to traces, not to a per-tooth CSV");
                 }
-                from_teeth(&dir.join(t), &at)?
+                from_teeth(&dir.join(t), cfg.input == Input::Dynamometer, &at)?
             }
             _ => bail!("{at}: give exactly one of `trace` and `teeth`"),
         };
@@ -300,7 +303,7 @@ fn from_trace(path: &Path, cfg: &MonitorConfig, cut: &PlanCut, at: &str) -> Resu
     })
 }
 
-fn from_teeth(path: &Path, at: &str) -> Result<CutPoint> {
+fn from_teeth(path: &Path, dynamometer: bool, at: &str) -> Result<CutPoint> {
     let name = path.display().to_string();
     let mut r = csv::ReaderBuilder::new()
         .comment(Some(b'#'))
@@ -311,12 +314,18 @@ fn from_teeth(path: &Path, at: &str) -> Result<CutPoint> {
     let (Some(itc), Some(ifx)) = (col("tc_mm"), col("fx_n")) else {
         bail!("{name}: needs columns `tc_mm` and `fx_n` (and `ft_n` or `fy_n`)");
     };
-    let (ift, ify, ifz) = (col("ft_n"), col("fy_n"), col("fz_n"));
-    let (i2, tangential) = match (ift, ify) {
-        (Some(i), None) => (i, true),
-        (None, Some(i)) => (i, false),
-        (Some(_), Some(_)) => bail!("{name}: both `ft_n` and `fy_n`: give one route per cut"),
-        (None, None) => bail!("{name}: needs `ft_n` (motor route) or `fy_n` (dynamometer)"),
+    let (ift, ify, if2, ifz) = (col("ft_n"), col("fy_n"), col("f2_n"), col("fz_n"));
+    // A records file (`replay`, `decode-telemetry`): `f2_n` is what the machine's input
+    // gives, and its `status` says which teeth are steady cutting.
+    let istatus = if2.and(col("status"));
+    let (i2, tangential) = match (ift, ify, if2) {
+        (Some(i), None, None) => (i, true),
+        (None, Some(i), None) => (i, false),
+        (None, None, Some(i)) => (i, !dynamometer),
+        (None, None, None) => bail!(
+            "{name}: needs `ft_n` (motor route), `fy_n` (dynamometer) or `f2_n` (a records file)"
+        ),
+        _ => bail!("{name}: more than one of `ft_n`, `fy_n`, `f2_n`: give one route per cut"),
     };
     let (mut tc, mut fx, mut f2, mut fz) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     let mut left_out = 0;
@@ -334,7 +343,16 @@ fn from_teeth(path: &Path, at: &str) -> Result<CutPoint> {
             num(i2, "second force")?,
         ];
         let z = ifz.map(|i| num(i, "fz_n")).transpose()?;
-        if v.iter().chain(&z).all(|x| x.is_finite()) {
+        let steady = match istatus {
+            None => true,
+            Some(i) => {
+                let s = rec.get(i).unwrap_or("");
+                let st = Status::parse(s)
+                    .ok_or_else(|| anyhow!("{name} line {line}: unknown status {s:?}"))?;
+                !st.intersects(NOT_STEADY)
+            }
+        };
+        if steady && v.iter().chain(&z).all(|x| x.is_finite()) {
             tc.push(v[0]);
             fx.push(v[1]);
             f2.push(v[2]);
@@ -719,5 +737,66 @@ mod tests {
         neg[1].fx_n = -1e4;
         let e = fit_power(&tool, &neg, &TABLE2).unwrap_err();
         assert!(format!("{e:#}").contains("r1 = "), "{e:#}");
+    }
+
+    fn tmp(name: &str, text: &str) -> PathBuf {
+        let d = std::env::temp_dir().join(format!("cal-cut-{}", std::process::id()));
+        std::fs::create_dir_all(&d).expect("temp dir");
+        let p = d.join(name);
+        std::fs::write(&p, text).expect("write");
+        p
+    }
+
+    #[test]
+    fn records_files_average_the_steady_teeth_only() {
+        let p = tmp(
+            "rec.csv",
+            "time_s,tc_mm,fx_n,f2_n,status\n0.1,0.1,10,100,transient\n0.2,0.1,20,200,valid\n\
+             0.3,0.1,30,300,tc_out_of_range|rr_clamped\n0.4,0.1,NaN,1,valid\n0.5,0.1,1,1,settling\n",
+        );
+        let c = from_teeth(&p, false, "t").expect("reads");
+        assert_eq!((c.teeth, c.left_out), (2, 3));
+        assert_eq!(c.fx_n, 25.0);
+        assert_eq!(c.second, Second::Tangential(250.0));
+        let c = from_teeth(&p, true, "t").expect("reads");
+        assert_eq!(c.second, Second::Normal(250.0));
+    }
+
+    #[test]
+    fn bad_plans_and_files_are_named() {
+        let cfg = MonitorConfig::default();
+        let bad = tmp("bad.csv", "tc_mm,fx_n,ft_n\n0.1,1,2\n0.1,x,2\n");
+        let e = from_teeth(&bad, false, "t").expect_err("text accepted");
+        assert!(
+            format!("{e:#}").contains("bad.csv line 3: `fx_n` is not a number"),
+            "{e:#}"
+        );
+        let plan = tmp(
+            "plan.toml",
+            "[[cut]]\ntrace = \"a.csv\"\nteeth = \"b.csv\"\ndr_mm = 4.0\nda_mm = 4.0\n",
+        );
+        let e = read_cuts(&plan, &cfg).expect_err("two sources accepted");
+        assert!(
+            format!("{e:#}").contains("cut[0]: give exactly one of"),
+            "{e:#}"
+        );
+        let plan = tmp(
+            "plan2.toml",
+            "[[cut]]\nteeth = \"none.csv\"\ndr_mm = 4.0\nda_m = 4.0\n",
+        );
+        let e = read_cuts(&plan, &cfg).expect_err("typo accepted");
+        assert!(format!("{e:#}").contains("plan2.toml line"), "{e:#}");
+        let plan = tmp(
+            "plan3.toml",
+            "[[cut]]\nteeth = \"none.csv\"\ndr_mm = 4.0\nda_mm = 4.0\n",
+        );
+        let e = read_cuts(&plan, &cfg).expect_err("missing file accepted");
+        assert!(format!("{e:#}").contains("none.csv"), "{e:#}");
+        let plan = tmp(
+            "plan4.toml",
+            "[[cut]]\nteeth = \"bad.csv\"\ndr_mm = 17.0\nda_mm = 4.0\n",
+        );
+        let e = read_cuts(&plan, &cfg).expect_err("dr > 2R accepted");
+        assert!(format!("{e:#}").contains("dr_mm = 17"), "{e:#}");
     }
 }

@@ -117,7 +117,9 @@ PLAN FILE (TOML; paths relative to it):
   from_s = 2.0                  # optional window of the trace [s]
   to_s = 6.0
   [[cut]]
-  teeth = \"cut2.csv\"            # or per-tooth averages: tc_mm, fx_n, ft_n (or fy_n) [, fz_n]
+  teeth = \"cut2.csv\"            # or per-tooth averages: tc_mm, fx_n, ft_n (or fy_n) [, fz_n],
+                                #   or a records CSV of replay / decode-telemetry (the board's
+                                #   own per-tooth output; its status column picks steady teeth)
   dr_mm = 8.0
   da_mm = 4.0
   mode = \"up\"                   # per cut
