@@ -314,3 +314,82 @@ fn missing_recordings_are_errors_that_say_what_to_record() {
         "a failed step wrote its output"
     );
 }
+
+/// Paper 003's FANUC spindle: idle load in whole percent from a 20 Hz load meter, with the
+/// slope change at 11 000 rpm. The lines come back within the meter's half-percent step,
+/// and the break is found between the speeds either side of 11 000 rpm.
+#[test]
+fn fanuc_idle_load_with_its_break_at_11000_rpm() {
+    let d = dir("fanuc");
+    let load = r#"
+[input.motor.spindle.load]
+idle_load_pct = [
+  { from_rpm = 0.0, slope = 0.0001, intercept = -0.2892 },
+  { from_rpm = 11000.0, slope = 0.0014, intercept = -14.917 },
+]
+low_winding_load_ratio = [[1000.0, 23.0], [1750.0, 13.3], [2300.0, 13.3], [3000.0, 13.3], [4000.0, 13.3], [5000.0, 10.9], [6000.0, 9.1]]
+high_winding_load_ratio = [[5000.0, 10.9], [6000.0, 9.1], [10000.0, 9.1], [12000.0, 9.1], [15000.0, 9.1], [18000.0, 10.3], [20000.0, 11.2]]
+switch_rpm = 3568.0
+"#;
+    let machine = MACHINE
+        .replace("sample_rate_hz = 10000.0", "sample_rate_hz = 20000.0")
+        .split("[input.motor.spindle.current]")
+        .next()
+        .expect("machine head")
+        .to_string()
+        + load
+        + "[signal]\nspindle_noise = 0.3\n";
+    let mut sweep = String::new();
+    for rpm in [
+        2000, 4000, 6000, 8000, 10000, 12000, 14000, 16000, 18000, 20000,
+    ] {
+        sweep += &format!(
+            "[[segment]]\nduration_s = 1.0\nrpm = {rpm}.0\nfeed_mm_min = 0.0\ndr_mm = 0.0\n\
+             da_mm = 0.0\n"
+        );
+    }
+    let sc = Scenario::from_toml(&format!("{machine}\n{sweep}"), "fanuc").expect("scenario");
+    let trace = d.join("sweep.csv");
+    let f = std::io::BufWriter::new(std::fs::File::create(&trace).expect("trace file"));
+    sim::write_trace(&sc, f).expect("simulate");
+    let base = BASE
+        .replace("max_rpm = 15000.0", "max_rpm = 24000.0")
+        .split("[input.motor.spindle.current]")
+        .next()
+        .expect("base head")
+        .to_string()
+        + load;
+    std::fs::write(d.join("base.toml"), base).expect("base");
+    run(&CalibrateCmd::Spindle {
+        common: common(&d, Some(&d.join("base.toml")), "m.toml"),
+        breaks: None,
+        traces: vec![trace],
+    })
+    .expect("calibrate spindle");
+    let m = load_monitor_config(Some(&d.join("m.toml")), Some(20_000.0)).expect("machine file");
+    let Input::Motor {
+        spindle: SpindleModel::Load { idle_load_pct, .. },
+        ..
+    } = &m.config.input
+    else {
+        panic!("load model expected");
+    };
+    let want = |rpm: f32| {
+        if rpm < 11000.0 {
+            1e-4 * rpm - 0.2892
+        } else {
+            1.4e-3 * rpm - 14.917
+        }
+    };
+    for rpm in [2000.0f32, 6000.0, 10000.0, 12000.0, 16000.0, 20000.0] {
+        let got = idle_load_pct.eval(rpm);
+        assert!(
+            (got - want(rpm)).abs() < 0.5,
+            "{rpm} rpm: {got} vs {}",
+            want(rpm)
+        );
+    }
+    assert_eq!(idle_load_pct.lines.len(), 2, "{idle_load_pct:?}");
+    let from = idle_load_pct.lines[1].from_rpm;
+    assert!(from > 10000.0 && from < 12000.0, "{idle_load_pct:?}");
+}
