@@ -201,8 +201,11 @@ fn short_floats(v: &mut toml::Value) {
     }
 }
 
-/// Writes `bytes` to `path` through a temporary file.
+/// Writes `bytes` to `path` through a temporary file, creating its directory.
 fn write_file(path: &Path, bytes: &[u8]) -> Result<()> {
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    }
     write_then_rename(path, |w| w.write_all(bytes).map_err(Into::into))
 }
 
