@@ -362,6 +362,9 @@ pub struct AlarmState {
     /// Running mean of E^2 (clipped) and the number of E values seen.
     e_var: f32,
     e_count: u16,
+    /// Tooth index and length [samples] of the previous record (a jittered period).
+    last_tooth: u8,
+    last_samples: u32,
     /// Recent peak of the steady force (decaying).
     peak_force_n: f32,
     overload_run: u8,
@@ -392,6 +395,8 @@ impl Default for AlarmState {
             peak_force_n: 0.0,
             e_var: 0.0,
             e_count: 0,
+            last_tooth: 0,
+            last_samples: 0,
             overload_run: 0,
             teach_run: 0,
             cut_teeth: 0,
@@ -415,6 +420,9 @@ const SINGLE_EXCEEDANCE: f32 = 3.0;
 
 /// Share of the recent peak force that counts as cutting strongly (tool gone vs exit).
 const STRONG_SHARE: f32 = 0.6;
+/// Fall of the revolution-mean force per revolution, relative to it, beyond which the cut
+/// is leaving (an exit), not steady.
+const FALLING_SHARE: f32 = 0.1;
 /// Decay of the recent peak force per revolution.
 const PEAK_DECAY_PER_REV: f32 = 0.98;
 
@@ -548,11 +556,33 @@ impl Alarms {
         probe: &mut P,
     ) -> AlarmOutput {
         let n = self.n;
-        let armed = !rec.status.intersects(BAD_DATA);
+        // A period flagged only for its length jump (the sync pulse's jitter at a short
+        // period) that follows the previous tooth in order, within a quarter of its length:
+        // the teeth still line up and its average is good to the noise; forgetting the
+        // history there would blind the detector for two revolutions.
+        let jittered = rec.status.contains(Status::PERIOD_INVALID)
+            && !rec.status.contains(Status::NO_SYNC)
+            && st.last_samples > 0
+            && rec.tooth as usize == (st.last_tooth as usize + 1) % n.max(1)
+            && rec.samples.abs_diff(st.last_samples) <= st.last_samples / 4;
+        st.last_tooth = rec.tooth;
+        st.last_samples = rec.samples;
+        let (bad_data, no_decision) = if jittered {
+            let keep = !Status::PERIOD_INVALID.0;
+            (
+                Status(BAD_DATA.0 & keep),
+                Status(NO_BREAKAGE_DECISION.0 & keep),
+            )
+        } else {
+            (BAD_DATA, NO_BREAKAGE_DECISION)
+        };
+        let armed = !rec.status.intersects(bad_data);
         let f = self.signal(rec.fx_n, rec.f2_n);
         let f = if f.is_finite() { f } else { 0.0 };
         // A lost or swallowed tooth breaks the tooth alignment the detector relies on.
-        if rec.status.contains(Status::PERIOD_INVALID) || rec.status.contains(Status::NO_SYNC) {
+        if (rec.status.contains(Status::PERIOD_INVALID) && !jittered)
+            || rec.status.contains(Status::NO_SYNC)
+        {
             // Forgets every tooth (none is armed any more).
             st.armed = 0;
             st.exceed_pos = 0;
@@ -597,7 +627,7 @@ impl Alarms {
         // pattern redistributes, so `E` swings both ways within a revolution while the
         // revolution total stays. Engagement, feed and speed changes move every tooth the
         // same way: `E` then has one sign. Both signs are required.
-        let deciding = !rec.status.intersects(NO_BREAKAGE_DECISION);
+        let deciding = !rec.status.intersects(no_decision);
         if self.cfg.breakage.enabled && deciding {
             if let Some(e) = self.first_difference_change(st) {
                 let k = self.cfg.breakage.threshold_rel;
@@ -617,23 +647,37 @@ impl Alarms {
                 let clip = k * measured;
                 let mut exceeded = false;
                 let settled = st.e_count as usize >= 2 * n;
-                // Cheap screen first: the model threshold is only needed near the limit.
-                // `max(screen, floor) >= screen`, so within `screen + common` the screen
-                // fails whatever the floor: its square root is taken only past that.
+                // Cheap screen first: the model threshold is only needed near the limit, and
+                // no threshold is below `max(screen, floor)`: the square root is taken only
+                // past `screen`, the model only past that.
                 let screen = 0.5 * k * measured;
                 // Not `>`: with a NaN (absurd forces) the full test below decides, as it
                 // would without the shortcut.
                 #[allow(clippy::neg_cmp_op_on_partial_ord)]
-                let past_screen = !(e.abs() <= screen + common);
+                let past_screen = !(e.abs() <= screen);
                 if settled && past_screen {
                     let floor = E_SIGMAS * libm::sqrtf(e_var);
-                    if e.abs() > crate::fmath::max(screen, floor) + common {
+                    let lo = crate::fmath::max(screen, floor);
+                    // The first tooth of a change (see `confined_growth`): its exceedance
+                    // counts against the growth of the teeth before it, not its own.
+                    #[allow(clippy::neg_cmp_op_on_partial_ord)]
+                    let bit_common = if !(e.abs() <= lo + common) || rev_change.is_none() {
+                        common
+                    } else {
+                        match self.confined_growth(st, 0.5 * lo) {
+                            Some(g) => crate::fmath::min(g, common),
+                            None => common,
+                        }
+                    };
+                    #[allow(clippy::neg_cmp_op_on_partial_ord)]
+                    if !(e.abs() <= lo + bit_common) {
                         let expected = match st.held {
                             Some((rr, ra)) => self.model_signal(rr, ra, rec.tc_mm),
                             None => measured,
                         };
-                        let threshold = crate::fmath::max(k * expected, floor) + common;
-                        if e.abs() > threshold {
+                        let base = crate::fmath::max(k * expected, floor);
+                        let threshold = base + common;
+                        if e.abs() > base + bit_common {
                             exceeded = true;
                             if e > 0.0 {
                                 st.exceed_pos |= 1;
@@ -645,8 +689,8 @@ impl Alarms {
                             let count = (pos | neg).count_ones();
                             // One exceedance three times over is a breakage too: a step of
                             // engagement widens the threshold by its own revolution change
-                            // (`common`) and cannot pass 3x it; the chip a broken flute
-                            // leaves doubles the next flute's force at once.
+                            // (`common`, not the confined growth) and cannot pass 3x it; the
+                            // chip a broken flute leaves doubles the next flute's force.
                             let both_signs = pos != 0
                                 && neg != 0
                                 && count >= self.cfg.breakage.debounce_teeth as u32;
@@ -657,7 +701,15 @@ impl Alarms {
                     }
                 }
                 if !exceeded {
-                    st.e_var += E_ALPHA * (crate::fmath::min(e * e, clip * clip) - st.e_var);
+                    // A plain mean over the first values (an average started at zero
+                    // underestimates the spread for its first few dozen teeth: false alarms
+                    // just after an entry), exponential from 1 / E_ALPHA values on.
+                    let w = if (st.e_count as f32) < 1.0 / E_ALPHA {
+                        1.0 / (st.e_count as f32 + 1.0)
+                    } else {
+                        E_ALPHA
+                    };
+                    st.e_var += w * (crate::fmath::min(e * e, clip * clip) - st.e_var);
                     st.e_count = st.e_count.saturating_add(1);
                 }
             }
@@ -670,11 +722,15 @@ impl Alarms {
         // not-cutting floor within a revolution or so; an exit from the part lowers it over
         // many. "Strong": the revolution mean within STRONG_SHARE of the recent peak, which
         // decays by PEAK_DECAY_PER_REV a revolution so that a lighter cut later counts too.
+        // "Steady": strong and not already falling by more than FALLING_SHARE of itself a
+        // revolution; a quick exit (a few revolutions) passes through strong on its way
+        // down and would otherwise look like a collapse at its end.
         st.peak_force_n *= self.peak_decay;
         match rev_mean {
             Some(m) if armed => {
                 st.peak_force_n = crate::fmath::max(st.peak_force_n, m);
-                if m >= STRONG_SHARE * st.peak_force_n {
+                let falling = rev_change.is_some_and(|c| c < -FALLING_SHARE * m);
+                if m >= STRONG_SHARE * st.peak_force_n && !falling {
                     st.since_steady = 0;
                     st.steady_force_n = m;
                 } else {
@@ -866,6 +922,38 @@ impl Alarms {
             && st.tooth(0) == st.tooth(n)
             && st.tooth(1) == st.tooth(n + 1);
         ok.then(|| (st.force(0) - st.force(1)) - (st.force(n) - st.force(n + 1)))
+    }
+
+    /// `|sum of R_k| / N` over the `N - 1` teeth before the newest, `R_k = F_k - F_{k+N}`
+    /// their change from one revolution earlier, when every one of them is within
+    /// `bound` (the newest tooth's change is then confined to it); `None` otherwise. The
+    /// caller has the last `2 N` teeth armed.
+    ///
+    /// Why: the threshold widens by the revolution-mean growth (`common`) so that flutes
+    /// of unequal chip growing at unequal rates (an entry with runout) do not alarm. At the
+    /// first tooth of a breakage that growth is the breakage's own drop (or rise) over N:
+    /// for 2 flutes half of it, and the first evidence tooth misses its exceedance. An
+    /// engagement change that is under way shows in the teeth before (not confined), and
+    /// the teeth after the first keep the full `common`: a step or a lost tool, which move
+    /// every following tooth the same way, still needs its next tooth past a threshold
+    /// widened by the whole change.
+    #[inline(never)]
+    fn confined_growth(&self, st: &AlarmState, bound: f32) -> Option<f32> {
+        let n = self.n;
+        let mut sum = 0.0f32;
+        let (mut i, mut j) = (st.slot(1), st.slot(n + 1));
+        for _ in 1..n {
+            let r =
+                st.hist_f.get(i).copied().unwrap_or(0.0) - st.hist_f.get(j).copied().unwrap_or(0.0);
+            #[allow(clippy::neg_cmp_op_on_partial_ord)]
+            if !(r.abs() <= bound) {
+                return None;
+            }
+            sum += r;
+            i = i.wrapping_sub(1) & (HISTORY - 1);
+            j = j.wrapping_sub(1) & (HISTORY - 1);
+        }
+        Some(sum.abs() / n as f32)
     }
 
     /// Whether `rec` is a force collapse right after a steady cut while feeding.
