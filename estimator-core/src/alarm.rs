@@ -700,6 +700,34 @@ impl Alarms {
                         }
                     }
                 }
+                // Redistribution within the revolution: the changes from one revolution
+                // earlier, `R_k = F_k - F_{k+N}` over the last N teeth, of both signs beyond
+                // the threshold at once (one tooth lost force, another gained it). This
+                // sees a breakage whose loss is spread over two tooth periods (several
+                // flutes engaged at once, or the break in the middle of a pass), where no
+                // single `E` passes. An engagement change (a step, an entry with runout, a
+                // lost tool) moves every `R` one way. `R`'s noise is `E`'s over sqrt 2; the
+                // threshold widens by half the revolution growth. Screened on the newest
+                // `R` (it makes the pattern complete).
+                #[allow(clippy::neg_cmp_op_on_partial_ord)]
+                let newest_past = !(libm::fabsf(st.force(0) - st.force(n)) <= screen);
+                if settled && newest_past && rev_change.is_some() {
+                    let (r_max, r_min) = self.revolution_change_range(st);
+                    let spread = crate::fmath::min(r_max, -r_min);
+                    let widen = 0.5 * common;
+                    if spread > screen + widen {
+                        let floor_r = E_SIGMAS * libm::sqrtf(0.5 * e_var);
+                        let expected = match st.held {
+                            Some((rr, ra)) => self.model_signal(rr, ra, rec.tc_mm),
+                            None => measured,
+                        };
+                        let t = crate::fmath::max(crate::fmath::max(k * expected, floor_r), screen)
+                            + widen;
+                        if spread > t {
+                            raise(Cause::Breakage, spread, t);
+                        }
+                    }
+                }
                 if !exceeded {
                     // A plain mean over the first values (an average started at zero
                     // underestimates the spread for its first few dozen teeth: false alarms
@@ -911,6 +939,23 @@ impl Alarms {
         } else {
             (None, None)
         }
+    }
+
+    /// Largest and smallest change from one revolution earlier, `F_k - F_{k+N}`, over the
+    /// newest `N` teeth (the caller has the last `2 N` armed).
+    #[inline(never)]
+    fn revolution_change_range(&self, st: &AlarmState) -> (f32, f32) {
+        let (mut hi, mut lo) = (f32::NEG_INFINITY, f32::INFINITY);
+        let (mut i, mut j) = (st.slot(0), st.slot(self.n));
+        for _ in 0..self.n {
+            let r =
+                st.hist_f.get(i).copied().unwrap_or(0.0) - st.hist_f.get(j).copied().unwrap_or(0.0);
+            hi = crate::fmath::max(hi, r);
+            lo = crate::fmath::min(lo, r);
+            i = i.wrapping_sub(1) & (HISTORY - 1);
+            j = j.wrapping_sub(1) & (HISTORY - 1);
+        }
+        (hi, lo)
     }
 
     /// `E_i = D_i - D_{i-N}` for the newest tooth, when all four teeth it needs are armed
