@@ -1083,3 +1083,83 @@ mod serde_arrays {
         Ok(a)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    //! The breakage rules on hand-made records (the integration tests in
+    //! `tests/alarm.rs` run them on simulated cuts through the monitor).
+    #![allow(clippy::unwrap_used)]
+    extern crate std;
+    use super::*;
+    use std::vec::Vec;
+
+    /// Tooth-average forces [N] of a steady cut of 4 flutes, flute 0 out by 30 %, with
+    /// deterministic noise of `noise` N (uniform, +-sqrt(3) sigma), `revs` revolutions,
+    /// then `after` (a per-tooth change from the steady level, tooth by tooth).
+    fn forces(noise: f32, revs: usize, after: &[f32]) -> Vec<f32> {
+        let mut x = 0x2545_f491u32;
+        let mut rnd = || {
+            x ^= x << 13;
+            x ^= x >> 17;
+            x ^= x << 5;
+            (x as f32 / u32::MAX as f32 - 0.5) * 2.0 * 1.732 * noise
+        };
+        let level = |k: usize| if k % 4 == 0 { 130.0 } else { 100.0 };
+        let mut out: Vec<f32> = (0..4 * revs).map(|k| level(k) + rnd()).collect();
+        for (j, d) in after.iter().enumerate() {
+            let k = 4 * revs + j;
+            out.push(level(k) + d + rnd());
+        }
+        out
+    }
+
+    /// Feeds the forces as records (tooth in order, not a valid estimate: the threshold is
+    /// on the measured revolution mean); the index of the first breakage, if any.
+    fn first_breakage(f: &[f32]) -> Option<usize> {
+        let est = EstimatorConfig::default();
+        let a = AlarmConfig::default().build(&est).unwrap();
+        let mut st = AlarmState::default();
+        for (i, &fx) in f.iter().enumerate() {
+            let rec = ToothRecord {
+                end_sample: 250 * (i as u64 + 1),
+                tooth: (i % 4) as u8,
+                samples: 250,
+                rpm: 600.0,
+                tc_mm: 0.2,
+                fx_n: fx,
+                f2_n: 0.0,
+                status: Status::TRANSIENT,
+                ..ToothRecord::default()
+            };
+            let out = a.process(&mut st, &rec);
+            if out.event.is_some_and(|e| e.cause == Cause::Breakage) {
+                return Some(i);
+            }
+        }
+        None
+    }
+
+    #[test]
+    fn a_loss_spread_over_two_periods_is_decided_when_the_gain_completes_it() {
+        // Noise 6 N a tooth: sigma_E 12 N, the floor 4 sigma_E = 48 N is above k F (21 N),
+        // 4 sigma_R = 34 N. Flute 1 breaks while several flutes are engaged: teeth 1 and 2
+        // each lose 45 N (below the floor in E), tooth 3 gains the 90 N (the revolution
+        // total stays). The revolution changes R = (-45, -45, +90) have both signs beyond
+        // max(k F, 4 sigma_R) at tooth 3: decided there, one tooth before the first
+        // differences have both signs (tooth 0 of the next revolution: E = -90).
+        let steady = forces(6.0, 30, &[0.0; 12]);
+        assert_eq!(first_breakage(&steady), None, "steady runout and noise");
+        let broken = [0.0, -45.0, -45.0, 90.0];
+        let f = forces(6.0, 30, &[broken, broken, broken].concat());
+        assert_eq!(first_breakage(&f), Some(4 * 30 + 3));
+        // A step of the engagement by 40 % (flute 0, out by 30 %, gains 30 % more): every
+        // R one way, no alarm.
+        let step = [52.0, 40.0, 40.0, 40.0];
+        let f = forces(
+            6.0,
+            30,
+            &[[0.0, 40.0, 40.0, 40.0], step, step, step].concat(),
+        );
+        assert_eq!(first_breakage(&f), None);
+    }
+}
