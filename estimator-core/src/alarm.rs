@@ -9,16 +9,35 @@
 //!
 //! - Breakage (Altintas and Yellowley): per-tooth resultant `F_i`, its first difference
 //!   `D_i = F_i - F_{i-1}` and the change of that from the same tooth one revolution
-//!   earlier, `E_i = D_i - D_{i-N}`. Steady runout repeats every revolution and cancels in
-//!   `E`; a change common to all teeth (engagement, feed) gives a single spike of `E`; a
-//!   flute that breaks hands its chip to the next flute and gives a `-, +, -` burst. An
-//!   alarm needs `debounce_teeth` exceedances of `|E_i| > k F_expected` within one
-//!   revolution, of both signs (a change of engagement moves every tooth one way, and a
-//!   step that falls inside a tooth period gives two exceedances of one sign). Not
-//!   decided on feed/speed changes, air cuts or bad input.
+//!   earlier, `E_i = D_i - D_{i-N}` (equivalently `E_i = R_i - R_{i-1}` with
+//!   `R_i = F_i - F_{i-N}` the tooth's change from one revolution earlier). Steady runout
+//!   repeats every revolution and cancels in `E`; a change common to all teeth (engagement,
+//!   feed) gives a single spike of `E`; a flute that breaks hands its chip to the next flute
+//!   and gives a `-, +, -` burst. Threshold `max(k F_expected, 4 sigma_E)`, widened by the
+//!   revolution-mean growth (flutes of unequal chip grow at unequal rates during an entry);
+//!   `sigma_E` is E's running spread (a plain mean over the first 32 values, then
+//!   exponential). An alarm on either of:
+//!   - `debounce_teeth` exceedances of `|E_i|` within one revolution, of both signs (a change
+//!     of engagement moves every tooth one way, and a step that falls inside a tooth period
+//!     gives two exceedances of one sign), or one of three times the threshold. The first
+//!     tooth of a change that is confined to it (the `N - 1` teeth before it unchanged from
+//!     one revolution earlier) counts its exceedance against their growth, not against the
+//!     growth its own drop makes (half of it with 2 flutes); later teeth, and the single
+//!     3x test, keep the full growth term, so a step or a lost tool still needs its next
+//!     tooth past a threshold widened by the whole change.
+//!   - a redistribution within the revolution: `R` of both signs beyond
+//!     `max(k F_expected, 4 sigma_R)` plus half the growth over the last `N` teeth (one
+//!     tooth lost, another gained; the total stays). It sees a loss spread over two tooth
+//!     periods (several flutes engaged at once), where no single `E` passes.
+//!
+//!   Not decided on feed/speed changes, air cuts or bad input. A period flagged invalid
+//!   only for its length jump (sync jitter at short periods), in tooth order and within a
+//!   quarter of the previous length, is used and keeps the history; any other invalid
+//!   period (a lost pulse) forgets it.
 //! - Tool gone: the force falls from a steady cut near its recent peak to the not-cutting
 //!   floor within a few teeth while the feed goes on. An exit from the part lowers the
-//!   force over revolutions first; a lost tool does not.
+//!   force over revolutions first; a lost tool does not ("steady" excludes a revolution
+//!   mean already falling by more than 10 % a revolution).
 //! - Overload: the revolution-mean force above what the configured maximum engagement
 //!   gives at the current feed per tooth (eq. 7), or above a force limit.
 //! - Teach-in: a recorded good cut's revolution-mean force against revolutions since the
@@ -33,7 +52,10 @@
 //! resultant) the largest part (BENCHMARKS.md); eq. 7 (`Operating::new`, two `expf`) only
 //! when a breakage candidate needs its threshold, the feed changed (overload limit), or,
 //! once per revolution, for the wear update when the record is fed alone (the pipeline
-//! hands over the estimator's eq. 7 at the estimate instead).
+//! hands over the estimator's eq. 7 at the estimate instead). The breakage rules add a
+//! subtraction and a compare per tooth (the newest `R` against its screen); E's square
+//! root past `|E| > k F / 2`, and the `N`-tooth walks (confinement, the range of `R`) only
+//! past their screens (not re-measured on the QEMU bench since).
 
 use crate::estimator::EstimatorConfig;
 use crate::forward::{AverageForces, Operating};
