@@ -9,16 +9,35 @@
 //!
 //! - Breakage (Altintas and Yellowley): per-tooth resultant `F_i`, its first difference
 //!   `D_i = F_i - F_{i-1}` and the change of that from the same tooth one revolution
-//!   earlier, `E_i = D_i - D_{i-N}`. Steady runout repeats every revolution and cancels in
-//!   `E`; a change common to all teeth (engagement, feed) gives a single spike of `E`; a
-//!   flute that breaks hands its chip to the next flute and gives a `-, +, -` burst. An
-//!   alarm needs `debounce_teeth` exceedances of `|E_i| > k F_expected` within one
-//!   revolution, of both signs (a change of engagement moves every tooth one way, and a
-//!   step that falls inside a tooth period gives two exceedances of one sign). Not
-//!   decided on feed/speed changes, air cuts or bad input.
+//!   earlier, `E_i = D_i - D_{i-N}` (equivalently `E_i = R_i - R_{i-1}` with
+//!   `R_i = F_i - F_{i-N}` the tooth's change from one revolution earlier). Steady runout
+//!   repeats every revolution and cancels in `E`; a change common to all teeth (engagement,
+//!   feed) gives a single spike of `E`; a flute that breaks hands its chip to the next flute
+//!   and gives a `-, +, -` burst. Threshold `max(k F_expected, 4 sigma_E)`, widened by the
+//!   revolution-mean growth (flutes of unequal chip grow at unequal rates during an entry);
+//!   `sigma_E` is E's running spread (a plain mean over the first 32 values, then
+//!   exponential). An alarm on either of:
+//!   - `debounce_teeth` exceedances of `|E_i|` within one revolution, of both signs (a change
+//!     of engagement moves every tooth one way, and a step that falls inside a tooth period
+//!     gives two exceedances of one sign), or one of three times the threshold. The first
+//!     tooth of a change that is confined to it (the `N - 1` teeth before it unchanged from
+//!     one revolution earlier) counts its exceedance against their growth, not against the
+//!     growth its own drop makes (half of it with 2 flutes); later teeth, and the single
+//!     3x test, keep the full growth term, so a step or a lost tool still needs its next
+//!     tooth past a threshold widened by the whole change.
+//!   - a redistribution within the revolution: `R` of both signs beyond
+//!     `max(k F_expected, 4 sigma_R)` plus half the growth over the last `N` teeth (one
+//!     tooth lost, another gained; the total stays). It sees a loss spread over two tooth
+//!     periods (several flutes engaged at once), where no single `E` passes.
+//!
+//!   Not decided on feed/speed changes, air cuts or bad input. A period flagged invalid
+//!   only for its length jump (sync jitter at short periods), in tooth order and within a
+//!   quarter of the previous length, is used and keeps the history; any other invalid
+//!   period (a lost pulse) forgets it.
 //! - Tool gone: the force falls from a steady cut near its recent peak to the not-cutting
 //!   floor within a few teeth while the feed goes on. An exit from the part lowers the
-//!   force over revolutions first; a lost tool does not.
+//!   force over revolutions first; a lost tool does not ("steady" excludes a revolution
+//!   mean already falling by more than 10 % a revolution).
 //! - Overload: the revolution-mean force above what the configured maximum engagement
 //!   gives at the current feed per tooth (eq. 7), or above a force limit.
 //! - Teach-in: a recorded good cut's revolution-mean force against revolutions since the
@@ -33,7 +52,10 @@
 //! resultant) the largest part (BENCHMARKS.md); eq. 7 (`Operating::new`, two `expf`) only
 //! when a breakage candidate needs its threshold, the feed changed (overload limit), or,
 //! once per revolution, for the wear update when the record is fed alone (the pipeline
-//! hands over the estimator's eq. 7 at the estimate instead).
+//! hands over the estimator's eq. 7 at the estimate instead). The breakage rules add a
+//! subtraction and a compare per tooth (the newest `R` against its screen); E's square
+//! root past `|E| > k F / 2`, and the `N`-tooth walks (confinement, the range of `R`) only
+//! past their screens (not re-measured on the QEMU bench since).
 
 use crate::estimator::EstimatorConfig;
 use crate::forward::{AverageForces, Operating};
@@ -362,6 +384,9 @@ pub struct AlarmState {
     /// Running mean of E^2 (clipped) and the number of E values seen.
     e_var: f32,
     e_count: u16,
+    /// Tooth index and length [samples] of the previous record (a jittered period).
+    last_tooth: u8,
+    last_samples: u32,
     /// Recent peak of the steady force (decaying).
     peak_force_n: f32,
     overload_run: u8,
@@ -392,6 +417,8 @@ impl Default for AlarmState {
             peak_force_n: 0.0,
             e_var: 0.0,
             e_count: 0,
+            last_tooth: 0,
+            last_samples: 0,
             overload_run: 0,
             teach_run: 0,
             cut_teeth: 0,
@@ -415,6 +442,9 @@ const SINGLE_EXCEEDANCE: f32 = 3.0;
 
 /// Share of the recent peak force that counts as cutting strongly (tool gone vs exit).
 const STRONG_SHARE: f32 = 0.6;
+/// Fall of the revolution-mean force per revolution, relative to it, beyond which the cut
+/// is leaving (an exit), not steady.
+const FALLING_SHARE: f32 = 0.1;
 /// Decay of the recent peak force per revolution.
 const PEAK_DECAY_PER_REV: f32 = 0.98;
 
@@ -548,11 +578,33 @@ impl Alarms {
         probe: &mut P,
     ) -> AlarmOutput {
         let n = self.n;
-        let armed = !rec.status.intersects(BAD_DATA);
+        // A period flagged only for its length jump (the sync pulse's jitter at a short
+        // period) that follows the previous tooth in order, within a quarter of its length:
+        // the teeth still line up and its average is good to the noise; forgetting the
+        // history there would blind the detector for two revolutions.
+        let jittered = rec.status.contains(Status::PERIOD_INVALID)
+            && !rec.status.contains(Status::NO_SYNC)
+            && st.last_samples > 0
+            && rec.tooth as usize == (st.last_tooth as usize + 1) % n.max(1)
+            && rec.samples.abs_diff(st.last_samples) <= st.last_samples / 4;
+        st.last_tooth = rec.tooth;
+        st.last_samples = rec.samples;
+        let (bad_data, no_decision) = if jittered {
+            let keep = !Status::PERIOD_INVALID.0;
+            (
+                Status(BAD_DATA.0 & keep),
+                Status(NO_BREAKAGE_DECISION.0 & keep),
+            )
+        } else {
+            (BAD_DATA, NO_BREAKAGE_DECISION)
+        };
+        let armed = !rec.status.intersects(bad_data);
         let f = self.signal(rec.fx_n, rec.f2_n);
         let f = if f.is_finite() { f } else { 0.0 };
         // A lost or swallowed tooth breaks the tooth alignment the detector relies on.
-        if rec.status.contains(Status::PERIOD_INVALID) || rec.status.contains(Status::NO_SYNC) {
+        if (rec.status.contains(Status::PERIOD_INVALID) && !jittered)
+            || rec.status.contains(Status::NO_SYNC)
+        {
             // Forgets every tooth (none is armed any more).
             st.armed = 0;
             st.exceed_pos = 0;
@@ -597,7 +649,7 @@ impl Alarms {
         // pattern redistributes, so `E` swings both ways within a revolution while the
         // revolution total stays. Engagement, feed and speed changes move every tooth the
         // same way: `E` then has one sign. Both signs are required.
-        let deciding = !rec.status.intersects(NO_BREAKAGE_DECISION);
+        let deciding = !rec.status.intersects(no_decision);
         if self.cfg.breakage.enabled && deciding {
             if let Some(e) = self.first_difference_change(st) {
                 let k = self.cfg.breakage.threshold_rel;
@@ -617,23 +669,37 @@ impl Alarms {
                 let clip = k * measured;
                 let mut exceeded = false;
                 let settled = st.e_count as usize >= 2 * n;
-                // Cheap screen first: the model threshold is only needed near the limit.
-                // `max(screen, floor) >= screen`, so within `screen + common` the screen
-                // fails whatever the floor: its square root is taken only past that.
+                // Cheap screen first: the model threshold is only needed near the limit, and
+                // no threshold is below `max(screen, floor)`: the square root is taken only
+                // past `screen`, the model only past that.
                 let screen = 0.5 * k * measured;
                 // Not `>`: with a NaN (absurd forces) the full test below decides, as it
                 // would without the shortcut.
                 #[allow(clippy::neg_cmp_op_on_partial_ord)]
-                let past_screen = !(e.abs() <= screen + common);
+                let past_screen = !(e.abs() <= screen);
                 if settled && past_screen {
                     let floor = E_SIGMAS * libm::sqrtf(e_var);
-                    if e.abs() > crate::fmath::max(screen, floor) + common {
+                    let lo = crate::fmath::max(screen, floor);
+                    // The first tooth of a change (see `confined_growth`): its exceedance
+                    // counts against the growth of the teeth before it, not its own.
+                    #[allow(clippy::neg_cmp_op_on_partial_ord)]
+                    let bit_common = if !(e.abs() <= lo + common) || rev_change.is_none() {
+                        common
+                    } else {
+                        match self.confined_growth(st, 0.5 * lo) {
+                            Some(g) => crate::fmath::min(g, common),
+                            None => common,
+                        }
+                    };
+                    #[allow(clippy::neg_cmp_op_on_partial_ord)]
+                    if !(e.abs() <= lo + bit_common) {
                         let expected = match st.held {
                             Some((rr, ra)) => self.model_signal(rr, ra, rec.tc_mm),
                             None => measured,
                         };
-                        let threshold = crate::fmath::max(k * expected, floor) + common;
-                        if e.abs() > threshold {
+                        let base = crate::fmath::max(k * expected, floor);
+                        let threshold = base + common;
+                        if e.abs() > base + bit_common {
                             exceeded = true;
                             if e > 0.0 {
                                 st.exceed_pos |= 1;
@@ -645,8 +711,8 @@ impl Alarms {
                             let count = (pos | neg).count_ones();
                             // One exceedance three times over is a breakage too: a step of
                             // engagement widens the threshold by its own revolution change
-                            // (`common`) and cannot pass 3x it; the chip a broken flute
-                            // leaves doubles the next flute's force at once.
+                            // (`common`, not the confined growth) and cannot pass 3x it; the
+                            // chip a broken flute leaves doubles the next flute's force.
                             let both_signs = pos != 0
                                 && neg != 0
                                 && count >= self.cfg.breakage.debounce_teeth as u32;
@@ -656,8 +722,44 @@ impl Alarms {
                         }
                     }
                 }
+                // Redistribution within the revolution: the changes from one revolution
+                // earlier, `R_k = F_k - F_{k+N}` over the last N teeth, of both signs beyond
+                // the threshold at once (one tooth lost force, another gained it). This
+                // sees a breakage whose loss is spread over two tooth periods (several
+                // flutes engaged at once, or the break in the middle of a pass), where no
+                // single `E` passes. An engagement change (a step, an entry with runout, a
+                // lost tool) moves every `R` one way. `R`'s noise is `E`'s over sqrt 2; the
+                // threshold widens by half the revolution growth. Screened on the newest
+                // `R` (it makes the pattern complete).
+                #[allow(clippy::neg_cmp_op_on_partial_ord)]
+                let newest_past = !(libm::fabsf(st.force(0) - st.force(n)) <= screen);
+                if settled && newest_past && rev_change.is_some() {
+                    let (r_max, r_min) = self.revolution_change_range(st);
+                    let spread = crate::fmath::min(r_max, -r_min);
+                    let widen = 0.5 * common;
+                    if spread > screen + widen {
+                        let floor_r = E_SIGMAS * libm::sqrtf(0.5 * e_var);
+                        let expected = match st.held {
+                            Some((rr, ra)) => self.model_signal(rr, ra, rec.tc_mm),
+                            None => measured,
+                        };
+                        let t = crate::fmath::max(crate::fmath::max(k * expected, floor_r), screen)
+                            + widen;
+                        if spread > t {
+                            raise(Cause::Breakage, spread, t);
+                        }
+                    }
+                }
                 if !exceeded {
-                    st.e_var += E_ALPHA * (crate::fmath::min(e * e, clip * clip) - st.e_var);
+                    // A plain mean over the first values (an average started at zero
+                    // underestimates the spread for its first few dozen teeth: false alarms
+                    // just after an entry), exponential from 1 / E_ALPHA values on.
+                    let w = if (st.e_count as f32) < 1.0 / E_ALPHA {
+                        1.0 / (st.e_count as f32 + 1.0)
+                    } else {
+                        E_ALPHA
+                    };
+                    st.e_var += w * (crate::fmath::min(e * e, clip * clip) - st.e_var);
                     st.e_count = st.e_count.saturating_add(1);
                 }
             }
@@ -670,11 +772,15 @@ impl Alarms {
         // not-cutting floor within a revolution or so; an exit from the part lowers it over
         // many. "Strong": the revolution mean within STRONG_SHARE of the recent peak, which
         // decays by PEAK_DECAY_PER_REV a revolution so that a lighter cut later counts too.
+        // "Steady": strong and not already falling by more than FALLING_SHARE of itself a
+        // revolution; a quick exit (a few revolutions) passes through strong on its way
+        // down and would otherwise look like a collapse at its end.
         st.peak_force_n *= self.peak_decay;
         match rev_mean {
             Some(m) if armed => {
                 st.peak_force_n = crate::fmath::max(st.peak_force_n, m);
-                if m >= STRONG_SHARE * st.peak_force_n {
+                let falling = rev_change.is_some_and(|c| c < -FALLING_SHARE * m);
+                if m >= STRONG_SHARE * st.peak_force_n && !falling {
                     st.since_steady = 0;
                     st.steady_force_n = m;
                 } else {
@@ -857,6 +963,23 @@ impl Alarms {
         }
     }
 
+    /// Largest and smallest change from one revolution earlier, `F_k - F_{k+N}`, over the
+    /// newest `N` teeth (the caller has the last `2 N` armed).
+    #[inline(never)]
+    fn revolution_change_range(&self, st: &AlarmState) -> (f32, f32) {
+        let (mut hi, mut lo) = (f32::NEG_INFINITY, f32::INFINITY);
+        let (mut i, mut j) = (st.slot(0), st.slot(self.n));
+        for _ in 0..self.n {
+            let r =
+                st.hist_f.get(i).copied().unwrap_or(0.0) - st.hist_f.get(j).copied().unwrap_or(0.0);
+            hi = crate::fmath::max(hi, r);
+            lo = crate::fmath::min(lo, r);
+            i = i.wrapping_sub(1) & (HISTORY - 1);
+            j = j.wrapping_sub(1) & (HISTORY - 1);
+        }
+        (hi, lo)
+    }
+
     /// `E_i = D_i - D_{i-N}` for the newest tooth, when all four teeth it needs are armed
     /// and the tooth indices line up.
     #[inline(always)]
@@ -866,6 +989,38 @@ impl Alarms {
             && st.tooth(0) == st.tooth(n)
             && st.tooth(1) == st.tooth(n + 1);
         ok.then(|| (st.force(0) - st.force(1)) - (st.force(n) - st.force(n + 1)))
+    }
+
+    /// `|sum of R_k| / N` over the `N - 1` teeth before the newest, `R_k = F_k - F_{k+N}`
+    /// their change from one revolution earlier, when every one of them is within
+    /// `bound` (the newest tooth's change is then confined to it); `None` otherwise. The
+    /// caller has the last `2 N` teeth armed.
+    ///
+    /// Why: the threshold widens by the revolution-mean growth (`common`) so that flutes
+    /// of unequal chip growing at unequal rates (an entry with runout) do not alarm. At the
+    /// first tooth of a breakage that growth is the breakage's own drop (or rise) over N:
+    /// for 2 flutes half of it, and the first evidence tooth misses its exceedance. An
+    /// engagement change that is under way shows in the teeth before (not confined), and
+    /// the teeth after the first keep the full `common`: a step or a lost tool, which move
+    /// every following tooth the same way, still needs its next tooth past a threshold
+    /// widened by the whole change.
+    #[inline(never)]
+    fn confined_growth(&self, st: &AlarmState, bound: f32) -> Option<f32> {
+        let n = self.n;
+        let mut sum = 0.0f32;
+        let (mut i, mut j) = (st.slot(1), st.slot(n + 1));
+        for _ in 1..n {
+            let r =
+                st.hist_f.get(i).copied().unwrap_or(0.0) - st.hist_f.get(j).copied().unwrap_or(0.0);
+            #[allow(clippy::neg_cmp_op_on_partial_ord)]
+            if !(r.abs() <= bound) {
+                return None;
+            }
+            sum += r;
+            i = i.wrapping_sub(1) & (HISTORY - 1);
+            j = j.wrapping_sub(1) & (HISTORY - 1);
+        }
+        Some(sum.abs() / n as f32)
     }
 
     /// Whether `rec` is a force collapse right after a steady cut while feeding.
@@ -948,5 +1103,85 @@ mod serde_arrays {
             .ok_or_else(|| D::Error::custom("too many bins"))?
             .copy_from_slice(&v);
         Ok(a)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    //! The breakage rules on hand-made records (the integration tests in
+    //! `tests/alarm.rs` run them on simulated cuts through the monitor).
+    #![allow(clippy::unwrap_used)]
+    extern crate std;
+    use super::*;
+    use std::vec::Vec;
+
+    /// Tooth-average forces [N] of a steady cut of 4 flutes, flute 0 out by 30 %, with
+    /// deterministic noise of `noise` N (uniform, +-sqrt(3) sigma), `revs` revolutions,
+    /// then `after` (a per-tooth change from the steady level, tooth by tooth).
+    fn forces(noise: f32, revs: usize, after: &[f32]) -> Vec<f32> {
+        let mut x = 0x2545_f491u32;
+        let mut rnd = || {
+            x ^= x << 13;
+            x ^= x >> 17;
+            x ^= x << 5;
+            (x as f32 / u32::MAX as f32 - 0.5) * 2.0 * 1.732 * noise
+        };
+        let level = |k: usize| if k % 4 == 0 { 130.0 } else { 100.0 };
+        let mut out: Vec<f32> = (0..4 * revs).map(|k| level(k) + rnd()).collect();
+        for (j, d) in after.iter().enumerate() {
+            let k = 4 * revs + j;
+            out.push(level(k) + d + rnd());
+        }
+        out
+    }
+
+    /// Feeds the forces as records (tooth in order, not a valid estimate: the threshold is
+    /// on the measured revolution mean); the index of the first breakage, if any.
+    fn first_breakage(f: &[f32]) -> Option<usize> {
+        let est = EstimatorConfig::default();
+        let a = AlarmConfig::default().build(&est).unwrap();
+        let mut st = AlarmState::default();
+        for (i, &fx) in f.iter().enumerate() {
+            let rec = ToothRecord {
+                end_sample: 250 * (i as u64 + 1),
+                tooth: (i % 4) as u8,
+                samples: 250,
+                rpm: 600.0,
+                tc_mm: 0.2,
+                fx_n: fx,
+                f2_n: 0.0,
+                status: Status::TRANSIENT,
+                ..ToothRecord::default()
+            };
+            let out = a.process(&mut st, &rec);
+            if out.event.is_some_and(|e| e.cause == Cause::Breakage) {
+                return Some(i);
+            }
+        }
+        None
+    }
+
+    #[test]
+    fn a_loss_spread_over_two_periods_is_decided_when_the_gain_completes_it() {
+        // Noise 6 N a tooth: sigma_E 12 N, the floor 4 sigma_E = 48 N is above k F (21 N),
+        // 4 sigma_R = 34 N. Flute 1 breaks while several flutes are engaged: teeth 1 and 2
+        // each lose 45 N (below the floor in E), tooth 3 gains the 90 N (the revolution
+        // total stays). The revolution changes R = (-45, -45, +90) have both signs beyond
+        // max(k F, 4 sigma_R) at tooth 3: decided there, one tooth before the first
+        // differences have both signs (tooth 0 of the next revolution: E = -90).
+        let steady = forces(6.0, 30, &[0.0; 12]);
+        assert_eq!(first_breakage(&steady), None, "steady runout and noise");
+        let broken = [0.0, -45.0, -45.0, 90.0];
+        let f = forces(6.0, 30, &[broken, broken, broken].concat());
+        assert_eq!(first_breakage(&f), Some(4 * 30 + 3));
+        // A step of the engagement by 40 % (flute 0, out by 30 %, gains 30 % more): every
+        // R one way, no alarm.
+        let step = [52.0, 40.0, 40.0, 40.0];
+        let f = forces(
+            6.0,
+            30,
+            &[[0.0, 40.0, 40.0, 40.0], step, step, step].concat(),
+        );
+        assert_eq!(first_breakage(&f), None);
     }
 }

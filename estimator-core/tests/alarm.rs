@@ -247,3 +247,73 @@ fn alarms_latch_until_reset() {
     a.reset(&mut st);
     assert!(st.latched().is_none());
 }
+
+/// First non-wear alarm and its time.
+fn first_alarm(recs: &[(ToothRecord, Truth)]) -> Option<(Cause, f64)> {
+    let (events, _) = alarms(recs, AlarmConfig::default());
+    events
+        .iter()
+        .find(|e| e.cause != Cause::Wear)
+        .map(|e| (e.cause, e.record.time_s(10_000.0)))
+}
+
+#[test]
+fn a_quick_exit_is_not_a_lost_tool() {
+    // Out of the part over three revolutions (a short exit at a high feed): the force
+    // passes through "strong" on its way down and reaches the floor within two
+    // revolutions of it, but it fell over the revolutions before: no tool-gone alarm.
+    for seed in 1..=3 {
+        let mut segs = vec![seg(2.0, 3.0, 6.0, 500.0)];
+        for k in (0..6).rev() {
+            segs.push(seg(0.05, 3.0 * k as f64 / 6.0, 6.0, 500.0));
+        }
+        segs.push(seg(1.0, 0.0, 6.0, 500.0));
+        let mut sc = paper(segs, 40 + seed);
+        sc.noise_rel = 0.03;
+        let recs = run(&sc, config(MillingMode::Down, 10_000.0));
+        assert_eq!(first_alarm(&recs), None, "seed {seed}");
+    }
+}
+
+/// Moves the sync pulse closest after `at_s` by `shift` samples (later), or drops it.
+fn move_pulse(at_s: f64, shift: Option<usize>) -> impl FnMut(usize, &mut estimator_core::Sample) {
+    let from = (at_s * 10_000.0) as usize;
+    let mut pending: Option<usize> = None;
+    let mut done = false;
+    move |i, s| {
+        if !done && i >= from && s.sync {
+            s.sync = false;
+            done = true;
+            pending = shift.map(|d| i + d);
+        }
+        if pending == Some(i) {
+            s.sync = true;
+            pending = None;
+        }
+    }
+}
+
+#[test]
+fn a_jittered_period_keeps_the_history_and_a_lost_pulse_does_not() {
+    let est_cfg = || config(MillingMode::Down, 10_000.0);
+    let mut sc = breaking(1.0, 21);
+    // A pulse 30 samples late (12 % of the 250-sample period: flagged PERIOD_INVALID, in
+    // order and within a quarter of the length) two tooth periods before the break.
+    let t_break = 2.013;
+    let recs = run_with(&sc, est_cfg(), move_pulse(t_break - 0.05, Some(30)));
+    let jittered = recs
+        .iter()
+        .filter(|(r, _)| r.status.contains(estimator_core::Status::PERIOD_INVALID))
+        .count();
+    assert!(jittered >= 1, "the late pulse is flagged");
+    let (cause, t) = first_alarm(&recs).expect("an alarm");
+    assert_eq!(cause, Cause::Breakage);
+    assert!(t > t_break && t <= t_break + 0.1, "raised at {t:.4} s");
+    // A lost pulse (two teeth in one period) breaks the tooth alignment: the history is
+    // forgotten and nothing alarms on the misaligned teeth (no break in this cut).
+    sc.break_at = None;
+    for at in [1.0, 1.5, 2.2] {
+        let recs = run_with(&sc, est_cfg(), move_pulse(at, None));
+        assert_eq!(first_alarm(&recs), None, "pulse lost at {at} s");
+    }
+}

@@ -578,25 +578,38 @@ pub fn report(fig: &[SetFigures; 5]) -> String {
     s
 }
 
-/// What CI holds the detectors to (`--check`): no false alarm in the normal set, every
-/// overload caught, and at least [`MIN_BREAK_DETECTION`] of full breakages caught. Below
-/// the product goal (every full breakage within one revolution: BENCHMARKS.md gives the
-/// measured figures); a regression floor, so that a change that loses ground fails.
+/// What CI holds the detectors to (`--check`): no false alarm in any set (a normal cut, or
+/// before the damage, or of another cause), every overload caught, at least
+/// [`MIN_BREAK_DETECTION`] of full breakages caught and [`MIN_BREAK_WITHIN_REV`] of them
+/// within one revolution. Below the product goal (every full breakage within one
+/// revolution: BENCHMARKS.md gives the measured figures); a regression floor, so that a
+/// change that loses ground fails.
 pub fn check_goals(fig: &[SetFigures; 5]) -> Result<()> {
-    let [normal, brk, _, _, overload] = fig;
-    if normal.false_alarms != 0 {
-        bail!(
-            "{} false alarms in the normal set (must be none)",
-            normal.false_alarms
-        );
+    for (kind, f) in KINDS.iter().zip(fig) {
+        if f.false_alarms != 0 {
+            bail!(
+                "{} false alarms in the {} set (must be none)",
+                f.false_alarms,
+                kind.name()
+            );
+        }
     }
-    let share = brk.detected as f64 / brk.cases.max(1) as f64;
-    if share < MIN_BREAK_DETECTION {
+    let [_, brk, _, _, overload] = fig;
+    let cases = brk.cases.max(1) as f64;
+    if (brk.detected as f64) < MIN_BREAK_DETECTION * cases {
         bail!(
             "{} of {} full flute breakages caught (floor: {:.0} %)",
             brk.detected,
             brk.cases,
             100.0 * MIN_BREAK_DETECTION
+        );
+    }
+    if (brk.within_rev as f64) < MIN_BREAK_WITHIN_REV * cases {
+        bail!(
+            "{} of {} full flute breakages caught within one revolution (floor: {:.0} %)",
+            brk.within_rev,
+            brk.cases,
+            100.0 * MIN_BREAK_WITHIN_REV
         );
     }
     if overload.detected != overload.cases {
@@ -609,5 +622,10 @@ pub fn check_goals(fig: &[SetFigures; 5]) -> Result<()> {
     Ok(())
 }
 
-/// Share of full breakages `--check` requires caught.
-pub const MIN_BREAK_DETECTION: f64 = 0.85;
+/// Share of full breakages `--check` requires caught (the small set: 10 of 10 at seed 1;
+/// the full set 98-99 %).
+pub const MIN_BREAK_DETECTION: f64 = 0.9;
+
+/// Share of full breakages `--check` requires caught within one revolution (the small
+/// set: 6 of 10 at seed 1; the full set 78-82 %).
+pub const MIN_BREAK_WITHIN_REV: f64 = 0.5;
