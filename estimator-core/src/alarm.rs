@@ -29,6 +29,21 @@
 //!     `max(k F_expected, 4 sigma_R)` plus half the growth over the last `N` teeth (one
 //!     tooth lost, another gained; the total stays). It sees a loss spread over two tooth
 //!     periods (several flutes engaged at once), where no single `E` passes.
+//!   - a first tooth alone: out of a steady cut (the record before not transient, the
+//!     noise figure settled), a tooth whose force moved from one revolution earlier by
+//!     more than 35 % of it and 6 sigma_R, with at least the 3 (and the `N - 1`) teeth
+//!     before it unchanged within 3 sigma_R. A flute lost between its engagements takes
+//!     its next period's whole force away (a drop), or the tooth after it takes its chip
+//!     first (a rise); the next tooth, which the rules above need, can come after the
+//!     revolution is over. Nothing physical moves one tooth alone by that much: an
+//!     engagement change is entered over about a tool radius of travel (tens of teeth; the
+//!     Monitor flags it transient, and the teeth before move too), a feed or speed step is
+//!     flagged. A rise is a breakage at once. A drop latches the output at once and is
+//!     named with the next tooth: below [`GONE_SHARE`] of that tooth's force one
+//!     revolution earlier (nothing cuts) it is a lost tool, else a breakage; the event
+//!     then carries the record that latched. And the hand-over: a tooth that rose as much,
+//!     right after a tooth that dropped (the flute broke inside its period), the teeth
+//!     before both unchanged.
 //!
 //!   Not decided on feed/speed changes, air cuts or bad input. A period flagged invalid
 //!   only for its length jump (sync jitter at short periods), in tooth order and within a
@@ -353,7 +368,10 @@ pub struct AlarmEvent {
 /// What the alarms say after a record.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub struct AlarmOutput {
-    /// Raised by this record (alarms and the wear warning's first crossing).
+    /// Raised by this record (alarms and the wear warning's first crossing), or by the
+    /// record before: a first-tooth drop latches the output on its own record and comes
+    /// out here with the next, which names its cause (the event's `record` is the one
+    /// that latched).
     pub event: Option<AlarmEvent>,
     /// An alarm is latched: the output to the CNC must drop.
     pub latched: bool,
@@ -400,6 +418,12 @@ pub struct AlarmState {
     p: f32,
     wear_warned: bool,
     latched: Option<AlarmEvent>,
+    /// A first-tooth decision (see [`FIRST_TOOTH_SHARE`]): the output is latched, the
+    /// event waits for the next tooth to tell its cause; with the force the next tooth had
+    /// one revolution earlier.
+    pending: Option<(AlarmEvent, f32)>,
+    /// The previous record carried no transient flag (the cut was steady before it).
+    prev_steady: bool,
 }
 
 impl Default for AlarmState {
@@ -428,6 +452,8 @@ impl Default for AlarmState {
             p: P0,
             wear_warned: false,
             latched: None,
+            pending: None,
+            prev_steady: false,
         }
     }
 }
@@ -436,6 +462,24 @@ impl Default for AlarmState {
 const E_ALPHA: f32 = 1.0 / 32.0;
 /// Breakage threshold floor, in standard deviations of E.
 const E_SIGMAS: f32 = 4.0;
+
+/// First-tooth decision: the newest tooth's force fell from one revolution earlier by more
+/// than this share of what it was (and by [`FIRST_TOOTH_SIGMAS`] of the noise), with the
+/// `N - 1` teeth before it unchanged. A flute lost between its engagements takes its whole
+/// period's force: a light cut loses all of it, a slot with two flutes engaged half. The
+/// next tooth, which the other rules need, may come after the revolution is over.
+const FIRST_TOOTH_SHARE: f32 = 0.35;
+/// ... and by this many standard deviations of `R = F_i - F_{i-N}` (`sigma_E / sqrt 2`):
+/// one-sided, on a single tooth, 6 sigma is 1e-9 a tooth (a false alarm in over a
+/// thousand hours at 720 000 teeth an hour).
+const FIRST_TOOTH_SIGMAS: f32 = 6.0;
+/// The teeth before count as unchanged within this many standard deviations of `R`.
+const FIRST_TOOTH_QUIET_SIGMAS: f32 = 3.0;
+/// At least this many teeth before the first tooth must be quiet.
+const FIRST_TOOTH_QUIET_TEETH: usize = 3;
+/// After a first-tooth decision, the next tooth below this share of its force one
+/// revolution earlier means nothing cuts any more: the tool is gone, not a flute.
+const GONE_SHARE: f32 = 0.3;
 
 /// A single `E` beyond this multiple of the threshold raises a breakage by itself.
 const SINGLE_EXCEEDANCE: f32 = 3.0;
@@ -589,6 +633,20 @@ impl Alarms {
             && rec.samples.abs_diff(st.last_samples) <= st.last_samples / 4;
         st.last_tooth = rec.tooth;
         st.last_samples = rec.samples;
+        let prev_steady = st.prev_steady;
+        st.prev_steady = !rec.status.contains(Status::TRANSIENT);
+        // A first-tooth decision of the tooth before: its cause, from this tooth (a broken
+        // flute's chip goes to this one; a lost tool leaves nothing).
+        let resolved = st.pending.take().map(|(mut e, before)| {
+            let f = self.signal(rec.fx_n, rec.f2_n);
+            #[allow(clippy::neg_cmp_op_on_partial_ord)]
+            let gone = rec.status.contains(Status::NOT_CUTTING) || !(f >= GONE_SHARE * before);
+            if gone && self.cfg.tool_gone.enabled {
+                e.cause = Cause::ToolGone;
+            }
+            st.latched = Some(e);
+            e
+        });
         let (bad_data, no_decision) = if jittered {
             let keep = !Status::PERIOD_INVALID.0;
             (
@@ -650,6 +708,7 @@ impl Alarms {
         // revolution total stays. Engagement, feed and speed changes move every tooth the
         // same way: `E` then has one sign. Both signs are required.
         let deciding = !rec.status.intersects(no_decision);
+        let mut first_tooth: Option<(f32, f32, f32)> = None;
         if self.cfg.breakage.enabled && deciding {
             if let Some(e) = self.first_difference_change(st) {
                 let k = self.cfg.breakage.threshold_rel;
@@ -748,6 +807,72 @@ impl Alarms {
                         if spread > t {
                             raise(Cause::Breakage, spread, t);
                         }
+                    }
+                }
+                // The first tooth of a flute lost between its engagements (see
+                // FIRST_TOOTH_SHARE): decided on this tooth alone, its cause on the next.
+                let r0 = st.force(0) - st.force(n);
+                let before = st.force(n);
+                #[allow(clippy::neg_cmp_op_on_partial_ord)]
+                let moved = !(libm::fabsf(r0) <= FIRST_TOOTH_SHARE * before);
+                // Only out of a steady cut: an entry, exit or other ramp (the Monitor flags
+                // it transient) changes teeth by a share a revolution, noise on top.
+                // The noise figure must be a good one (a few dozen teeth into the cut), and
+                // at least FIRST_TOOTH_QUIET_TEETH teeth before it quiet (one tooth, with
+                // two flutes, says little about a ramp beginning).
+                let quiet_teeth = (n - 1).max(FIRST_TOOTH_QUIET_TEETH);
+                let armed_quiet = {
+                    let bits = quiet_teeth + n + 1;
+                    let mask = if bits >= 64 {
+                        u64::MAX
+                    } else {
+                        (1u64 << bits) - 1
+                    };
+                    st.armed & mask == mask
+                };
+                if prev_steady
+                    && moved
+                    && armed_quiet
+                    && st.e_count as f32 >= 1.0 / E_ALPHA
+                    && st.tooth(0) == st.tooth(n)
+                {
+                    let sigma_r = libm::sqrtf(0.5 * e_var);
+                    let t =
+                        crate::fmath::max(FIRST_TOOTH_SHARE * before, FIRST_TOOTH_SIGMAS * sigma_r);
+                    if libm::fabsf(r0) > t
+                        && self.quiet(st, quiet_teeth, FIRST_TOOTH_QUIET_SIGMAS * sigma_r)
+                    {
+                        if r0 > 0.0 {
+                            // The flute before broke after its engagement: this one took
+                            // its chip. Nothing else raises one tooth alone.
+                            raise(Cause::Breakage, r0, t);
+                        } else {
+                            first_tooth = Some((-r0, t, st.force(n - 1)));
+                        }
+                    }
+                }
+                // The hand-over: the tooth after a drop takes the lost chip (its force up by
+                // as much as a first-tooth drop), the teeth before the drop unchanged. The
+                // drop itself may have been partial (the flute broke inside its period); an
+                // engagement step moves both teeth the same way.
+                if settled
+                    && n >= 2
+                    && moved
+                    && r0 > 0.0
+                    && rev_change.is_some()
+                    && st.tooth(1) == st.tooth(n + 1)
+                {
+                    let sigma_r = libm::sqrtf(0.5 * e_var);
+                    let up =
+                        crate::fmath::max(FIRST_TOOTH_SHARE * before, FIRST_TOOTH_SIGMAS * sigma_r);
+                    let r1 = st.force(1) - st.force(n + 1);
+                    if r0 > up
+                        && r1 < -FIRST_TOOTH_QUIET_SIGMAS * sigma_r
+                        && self
+                            .quiet_since(st, 2, FIRST_TOOTH_QUIET_SIGMAS * sigma_r)
+                            .is_some()
+                    {
+                        raise(Cause::Breakage, r0, up);
                     }
                 }
                 if !exceeded {
@@ -882,15 +1007,15 @@ impl Alarms {
         // Built by one struct expression, straight into the caller's place (an
         // `AlarmOutput` is 96 bytes: built in a local and returned, it is copied by a
         // `memcpy` call).
-        if raised.is_none() && wear_event.is_none() {
+        if raised.is_none() && wear_event.is_none() && resolved.is_none() && first_tooth.is_none() {
             return AlarmOutput {
                 event: None,
-                latched: st.latched.is_some(),
+                latched: st.latched.is_some() || st.pending.is_some(),
                 wear: st.theta,
                 wear_warning: st.wear_warned,
             };
         }
-        Self::output_with_event(st, rec, raised, wear_event)
+        Self::output_with_event(st, rec, raised, wear_event, resolved, first_tooth)
     }
 
     /// The output of a record that raised an alarm or the wear warning (rare: out of the
@@ -902,7 +1027,41 @@ impl Alarms {
         rec: &ToothRecord,
         raised: Option<(Cause, f32, f32)>,
         wear_event: Option<(f32, f32)>,
+        resolved: Option<AlarmEvent>,
+        first_tooth: Option<(f32, f32, f32)>,
     ) -> AlarmOutput {
+        // A first-tooth decision resolved by this record is its event (and the first).
+        if let Some(e) = resolved {
+            return AlarmOutput {
+                event: Some(e),
+                latched: true,
+                wear: st.theta,
+                wear_warning: st.wear_warned,
+            };
+        }
+        // A first-tooth decision: the output latches now, the event follows.
+        if let (true, None, Some((value, threshold, next_before))) =
+            (st.latched.is_none(), raised, first_tooth)
+        {
+            let e = AlarmEvent {
+                cause: Cause::Breakage,
+                value,
+                threshold,
+                record: *rec,
+            };
+            st.pending = Some((e, next_before));
+            return AlarmOutput {
+                event: wear_event.map(|(value, threshold)| AlarmEvent {
+                    cause: Cause::Wear,
+                    value,
+                    threshold,
+                    record: *rec,
+                }),
+                latched: true,
+                wear: st.theta,
+                wear_warning: st.wear_warned,
+            };
+        }
         let event = match (st.latched.is_none(), raised, wear_event) {
             (true, Some((cause, value, threshold)), _) => {
                 let e = AlarmEvent {
@@ -1006,10 +1165,35 @@ impl Alarms {
     /// widened by the whole change.
     #[inline(never)]
     fn confined_growth(&self, st: &AlarmState, bound: f32) -> Option<f32> {
+        self.quiet_since(st, 1, bound)
+    }
+
+    /// Whether the changes from one revolution earlier of the `teeth` teeth before the
+    /// newest are all within `bound` (the caller has them and their predecessors armed).
+    #[inline(never)]
+    fn quiet(&self, st: &AlarmState, teeth: usize, bound: f32) -> bool {
+        let n = self.n;
+        let (mut i, mut j) = (st.slot(1), st.slot(n + 1));
+        for _ in 0..teeth {
+            let r =
+                st.hist_f.get(i).copied().unwrap_or(0.0) - st.hist_f.get(j).copied().unwrap_or(0.0);
+            #[allow(clippy::neg_cmp_op_on_partial_ord)]
+            if !(r.abs() <= bound) {
+                return false;
+            }
+            i = i.wrapping_sub(1) & (HISTORY - 1);
+            j = j.wrapping_sub(1) & (HISTORY - 1);
+        }
+        true
+    }
+
+    /// [`Self::confined_growth`] over the teeth `from..N` back (`from` >= 1).
+    #[inline(never)]
+    fn quiet_since(&self, st: &AlarmState, from: usize, bound: f32) -> Option<f32> {
         let n = self.n;
         let mut sum = 0.0f32;
-        let (mut i, mut j) = (st.slot(1), st.slot(n + 1));
-        for _ in 1..n {
+        let (mut i, mut j) = (st.slot(from), st.slot(n + from));
+        for _ in from..n {
             let r =
                 st.hist_f.get(i).copied().unwrap_or(0.0) - st.hist_f.get(j).copied().unwrap_or(0.0);
             #[allow(clippy::neg_cmp_op_on_partial_ord)]
@@ -1159,6 +1343,99 @@ mod tests {
             }
         }
         None
+    }
+
+    /// Feeds the forces as records of a steady cut (not flagged transient, the first-tooth
+    /// rules apply; `AMBIGUOUS` keeps the threshold on the measured force) until the first
+    /// tooth in `gone_from..` where nothing cuts; returns the index where the output first
+    /// latched, and the first event's: index, index of the record it carries, cause.
+    #[allow(clippy::type_complexity)]
+    fn first_latch(f: &[f32], gone_from: usize) -> (Option<usize>, Option<(usize, usize, Cause)>) {
+        let est = EstimatorConfig {
+            force_floor_n: 5.0,
+            ..EstimatorConfig::default()
+        };
+        let a = AlarmConfig::default().build(&est).unwrap();
+        let mut st = AlarmState::default();
+        let (mut latch, mut event) = (None, None);
+        for (i, &fx) in f.iter().enumerate() {
+            let cutting = i < gone_from || fx > 5.0;
+            let rec = ToothRecord {
+                end_sample: 250 * (i as u64 + 1),
+                tooth: (i % 4) as u8,
+                samples: 250,
+                rpm: 600.0,
+                tc_mm: 0.2,
+                fx_n: fx,
+                f2_n: 0.0,
+                status: if cutting {
+                    Status::AMBIGUOUS
+                } else {
+                    Status::NOT_CUTTING
+                },
+                ..ToothRecord::default()
+            };
+            let out = a.process(&mut st, &rec);
+            if out.latched && latch.is_none() {
+                latch = Some(i);
+            }
+            if let (None, Some(e)) = (event, out.event) {
+                event = Some((i, (e.record.end_sample / 250 - 1) as usize, e.cause));
+            }
+        }
+        (latch, event)
+    }
+
+    /// A flute lost between its engagements: its next period loses its whole force (tooth
+    /// 1: -100 N), the tooth after takes the chip (+100 N). Decided on the first tooth (the
+    /// output latches there), named on the second; a lost tool (every tooth to nothing)
+    /// latches as early and is named tool gone. Steady runout and noise never latch.
+    #[test]
+    fn a_whole_period_lost_latches_on_its_first_tooth() {
+        let steady = forces(3.0, 40, &[0.0; 16]);
+        assert_eq!(first_latch(&steady, usize::MAX), (None, None));
+        let broken = [0.0, -100.0, 100.0, 0.0];
+        let f = forces(3.0, 40, &[broken, broken].concat());
+        assert_eq!(
+            first_latch(&f, usize::MAX),
+            (Some(161), Some((162, 161, Cause::Breakage)))
+        );
+        // The hand-over first (the flute broke after its engagement in the period before
+        // the sync pulse's): a tooth that gains a flute's chip alone is decided at once.
+        let handed = [0.0, 100.0, -100.0, 0.0];
+        let f = forces(3.0, 40, &[handed, handed].concat());
+        assert_eq!(
+            first_latch(&f, usize::MAX),
+            (Some(161), Some((161, 161, Cause::Breakage)))
+        );
+        // The flute broke late in its period (tooth 1 lost a quarter), the next took the
+        // chip: the hand-over decides on the rise.
+        let late = [0.0, -25.0, 100.0, -75.0];
+        let f = forces(3.0, 40, &[late, late].concat());
+        assert_eq!(
+            first_latch(&f, usize::MAX),
+            (Some(162), Some((162, 162, Cause::Breakage)))
+        );
+        // The tool lost a third into tooth 1's period: 30 N left of its 100, then nothing.
+        let mut f = forces(3.0, 40, &[0.0; 8]);
+        f[161] = 30.0;
+        for x in f.iter_mut().skip(162) {
+            *x = 0.0;
+        }
+        assert_eq!(
+            first_latch(&f, 162),
+            (Some(161), Some((162, 161, Cause::ToolGone)))
+        );
+    }
+
+    /// A ramp (entry, exit) moves every tooth over several: no tooth changes alone, and the
+    /// first-tooth rules stay out of it even when the ramp is steep.
+    #[test]
+    fn a_steep_ramp_is_not_a_first_tooth() {
+        // Down by 12 % of the level a revolution, tooth by tooth (an exit in 8 revolutions).
+        let ramp: Vec<f32> = (0..32).map(|k| -0.03 * 100.0 * (k + 1) as f32).collect();
+        let f = forces(3.0, 40, &ramp);
+        assert_eq!(first_latch(&f, usize::MAX).0, None);
     }
 
     #[test]

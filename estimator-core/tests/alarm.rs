@@ -83,7 +83,14 @@ fn entry_exit_feed_and_speed_changes_and_air_never_alarm() {
     }
     segs.push(seg(1.5, 3.0, 6.0, 500.0));
     segs.push(seg(1.5, 3.0, 6.0, 800.0)); // feed step
-    segs.push(seg(1.0, 3.0, 11.0, 800.0)); // axial step
+                                          // Axial step, entered over a tool radius of travel (8 mm: 0.6 s at 800 mm/min).
+    segs.extend(travel(
+        &seg(0.0, 3.0, 6.0, 800.0),
+        &seg(0.0, 3.0, 11.0, 800.0),
+        8.0,
+        12,
+    ));
+    segs.push(seg(1.0, 3.0, 11.0, 800.0));
     segs.push(Seg {
         dur_s: 1.5,
         dr_mm: 3.0,
@@ -187,6 +194,13 @@ fn teach_in_accepts_the_taught_cut_and_flags_a_different_one() {
     let job = |da: f64, seed| {
         let mut segs = vec![seg(0.3, 0.0, da, 500.0)];
         segs.push(seg(1.5, 2.0, da, 500.0));
+        // A radial step, entered over a tool radius of travel.
+        segs.extend(travel(
+            &seg(0.0, 2.0, da, 500.0),
+            &seg(0.0, 4.0, da, 500.0),
+            8.0,
+            10,
+        ));
         segs.push(seg(1.5, 4.0, da, 500.0));
         run(&paper(segs, seed), config(MillingMode::Down, 10_000.0))
     };

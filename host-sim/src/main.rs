@@ -177,7 +177,7 @@ enum Command {
         #[arg(long, default_value_t = 2)]
         threads: usize,
         /// Exit with an error on a false alarm in any set, a missed overload, fewer than
-        /// 90 % of full breakages caught or fewer than 50 % within one revolution (CI's
+        /// 90 % of full breakages caught or fewer than 75 % within one revolution (CI's
         /// regression floor).
         #[arg(long)]
         check: bool,
@@ -317,7 +317,7 @@ fn evaluate_cmd(set: SetArg, seed: u64, threads: usize, check: bool, verbose: bo
         evaluate::check_goals(&fig)?;
         eprintln!(
             "check passed: no false alarm, every overload, >= 90 % of breakages caught and \
-             >= 50 % within one revolution"
+             >= 75 % within one revolution"
         );
     }
     Ok(())

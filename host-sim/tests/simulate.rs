@@ -845,7 +845,7 @@ da_mm = 8.0
         let path = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/cut.toml");
         let text = std::fs::read_to_string(path).unwrap();
         let sc = Scenario::from_toml(&text, path).unwrap();
-        assert_eq!(sc.segments.len(), 6);
+        assert_eq!(sc.segments.len(), 7);
         // Through the writer and back: the reader sees the same rows.
         let (summary, bytes) = host_sim::sim::write_trace(&sc, Vec::new()).unwrap();
         assert_eq!(summary.rows, 270_000);
@@ -861,8 +861,10 @@ da_mm = 8.0
         assert_eq!(at(0.5).ft_n, 0.0);
         assert!(at(3.0).ft_n > 0.0);
         assert_eq!(at(13.2).ft_n, 0.0);
-        // The ramp, the step, the feed change, the break.
+        // The ramp, the step (met from 7.5 s over 8 mm of travel), the feed change, the
+        // break.
         assert_eq!(at(5.0).dr_mm, 6.0);
+        assert!((at(8.1667).da_mm - 5.0).abs() < 1e-3);
         assert_eq!(at(9.0).da_mm, 6.0);
         assert!((at(11.0).tc_mm - 0.225).abs() < 1e-6);
         assert_eq!(at(11.4).flutes_intact, 0b1111);
@@ -908,7 +910,7 @@ da_mm = 8.0
         cfg.clip = host_sim::sim::clip_levels(&sc).map(|c| c as f32);
         let mon = cfg.build().unwrap();
         let mut st = MonitorState::default();
-        let steady = [(2.6, 4.0), (7.0, 8.0), (9.0, 10.0), (11.0, 11.5)];
+        let steady = [(2.6, 4.0), (6.8, 7.5), (9.3, 10.0), (11.0, 11.5)];
         let mut valid = [0; 4];
         simulate(&sc, |r| {
             if let Some(rec) = mon.process(&mut st, &r.to_sample()) {

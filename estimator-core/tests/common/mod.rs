@@ -333,6 +333,25 @@ pub fn seg(dur_s: f64, dr_mm: f64, da_mm: f64, feed_mm_min: f64) -> Seg {
     }
 }
 
+/// An engagement change as the cutter meets it: from `from` (depths, feed, speed) to `to`
+/// over `travel_mm` of feed at `from`'s feed (a step in the part is entered over about a
+/// tool radius of travel, not in an instant), in `steps` segments, the last at `to`.
+pub fn travel(from: &Seg, to: &Seg, travel_mm: f64, steps: usize) -> Vec<Seg> {
+    let dur = travel_mm / (from.feed_mm_min / 60.0) / steps as f64;
+    (1..=steps)
+        .map(|k| {
+            let a = k as f64 / steps as f64;
+            Seg {
+                dur_s: dur,
+                dr_mm: from.dr_mm + a * (to.dr_mm - from.dr_mm),
+                da_mm: from.da_mm + a * (to.da_mm - from.da_mm),
+                feed_mm_min: from.feed_mm_min + a * (to.feed_mm_min - from.feed_mm_min),
+                rpm: from.rpm + a * (to.rpm - from.rpm),
+            }
+        })
+        .collect()
+}
+
 /// Every record reported valid is within `tol` of the truth; returns how many were valid.
 /// "The truth" of a filtered estimate is whatever the cut was over the filter window (the
 /// last 16 teeth): the estimate must lie within `tol` of that range.
