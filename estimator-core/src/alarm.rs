@@ -481,6 +481,13 @@ const FIRST_TOOTH_QUIET_TEETH: usize = 3;
 /// revolution earlier means nothing cuts any more: the tool is gone, not a flute.
 const GONE_SHARE: f32 = 0.3;
 
+/// What a first-tooth rule decided: `(value, threshold)`, and for a drop the next tooth's
+/// force one revolution earlier (to tell a lost tool).
+enum FirstTooth {
+    Rise(f32, f32),
+    Drop(f32, f32, f32),
+}
+
 /// A single `E` beyond this multiple of the threshold raises a breakage by itself.
 const SINGLE_EXCEEDANCE: f32 = 3.0;
 
@@ -637,16 +644,12 @@ impl Alarms {
         st.prev_steady = !rec.status.contains(Status::TRANSIENT);
         // A first-tooth decision of the tooth before: its cause, from this tooth (a broken
         // flute's chip goes to this one; a lost tool leaves nothing).
-        let resolved = st.pending.take().map(|(mut e, before)| {
-            let f = self.signal(rec.fx_n, rec.f2_n);
-            #[allow(clippy::neg_cmp_op_on_partial_ord)]
-            let gone = rec.status.contains(Status::NOT_CUTTING) || !(f >= GONE_SHARE * before);
-            if gone && self.cfg.tool_gone.enabled {
-                e.cause = Cause::ToolGone;
-            }
-            st.latched = Some(e);
-            e
-        });
+        // (Tested in place: taking the pending event out would copy it on every tooth.)
+        let resolved = if st.pending.is_some() {
+            self.resolve_pending(st, rec)
+        } else {
+            None
+        };
         let (bad_data, no_decision) = if jittered {
             let keep = !Status::PERIOD_INVALID.0;
             (
@@ -811,68 +814,19 @@ impl Alarms {
                 }
                 // The first tooth of a flute lost between its engagements (see
                 // FIRST_TOOTH_SHARE): decided on this tooth alone, its cause on the next.
-                let r0 = st.force(0) - st.force(n);
-                let before = st.force(n);
+                // The first-tooth rules, past a cheap screen (see `first_tooth`).
+                let (r0, before) = (st.force(0) - st.force(n), st.force(n));
                 #[allow(clippy::neg_cmp_op_on_partial_ord)]
                 let moved = !(libm::fabsf(r0) <= FIRST_TOOTH_SHARE * before);
-                // Only out of a steady cut: an entry, exit or other ramp (the Monitor flags
-                // it transient) changes teeth by a share a revolution, noise on top.
-                // The noise figure must be a good one (a few dozen teeth into the cut), and
-                // at least FIRST_TOOTH_QUIET_TEETH teeth before it quiet (one tooth, with
-                // two flutes, says little about a ramp beginning).
-                let quiet_teeth = (n - 1).max(FIRST_TOOTH_QUIET_TEETH);
-                let armed_quiet = {
-                    let bits = quiet_teeth + n + 1;
-                    let mask = if bits >= 64 {
-                        u64::MAX
-                    } else {
-                        (1u64 << bits) - 1
-                    };
-                    st.armed & mask == mask
-                };
-                if prev_steady
-                    && moved
-                    && armed_quiet
-                    && st.e_count as f32 >= 1.0 / E_ALPHA
-                    && st.tooth(0) == st.tooth(n)
-                {
-                    let sigma_r = libm::sqrtf(0.5 * e_var);
-                    let t =
-                        crate::fmath::max(FIRST_TOOTH_SHARE * before, FIRST_TOOTH_SIGMAS * sigma_r);
-                    if libm::fabsf(r0) > t
-                        && self.quiet(st, quiet_teeth, FIRST_TOOTH_QUIET_SIGMAS * sigma_r)
-                    {
-                        if r0 > 0.0 {
-                            // The flute before broke after its engagement: this one took
-                            // its chip. Nothing else raises one tooth alone.
-                            raise(Cause::Breakage, r0, t);
-                        } else {
-                            first_tooth = Some((-r0, t, st.force(n - 1)));
+                if moved && rev_change.is_some() {
+                    match self.first_tooth(st, r0, before, prev_steady, settled) {
+                        Some(FirstTooth::Rise(value, threshold)) => {
+                            raise(Cause::Breakage, value, threshold)
                         }
-                    }
-                }
-                // The hand-over: the tooth after a drop takes the lost chip (its force up by
-                // as much as a first-tooth drop), the teeth before the drop unchanged. The
-                // drop itself may have been partial (the flute broke inside its period); an
-                // engagement step moves both teeth the same way.
-                if settled
-                    && n >= 2
-                    && moved
-                    && r0 > 0.0
-                    && rev_change.is_some()
-                    && st.tooth(1) == st.tooth(n + 1)
-                {
-                    let sigma_r = libm::sqrtf(0.5 * e_var);
-                    let up =
-                        crate::fmath::max(FIRST_TOOTH_SHARE * before, FIRST_TOOTH_SIGMAS * sigma_r);
-                    let r1 = st.force(1) - st.force(n + 1);
-                    if r0 > up
-                        && r1 < -FIRST_TOOTH_QUIET_SIGMAS * sigma_r
-                        && self
-                            .quiet_since(st, 2, FIRST_TOOTH_QUIET_SIGMAS * sigma_r)
-                            .is_some()
-                    {
-                        raise(Cause::Breakage, r0, up);
+                        Some(FirstTooth::Drop(value, threshold, next_before)) => {
+                            first_tooth = Some((value, threshold, next_before))
+                        }
+                        None => {}
                     }
                 }
                 if !exceeded {
@@ -1150,6 +1104,81 @@ impl Alarms {
         ok.then(|| (st.force(0) - st.force(1)) - (st.force(n) - st.force(n + 1)))
     }
 
+    /// Names the cause of a pending first-tooth drop from the record after it, and latches
+    /// it (module docs).
+    #[cold]
+    #[inline(never)]
+    fn resolve_pending(&self, st: &mut AlarmState, rec: &ToothRecord) -> Option<AlarmEvent> {
+        let (mut e, before) = st.pending.take()?;
+        let f = self.signal(rec.fx_n, rec.f2_n);
+        #[allow(clippy::neg_cmp_op_on_partial_ord)]
+        let gone = rec.status.contains(Status::NOT_CUTTING) || !(f >= GONE_SHARE * before);
+        if gone && self.cfg.tool_gone.enabled {
+            e.cause = Cause::ToolGone;
+        }
+        st.latched = Some(e);
+        Some(e)
+    }
+
+    /// The first-tooth rules (module docs) for the newest tooth, whose change from one
+    /// revolution earlier `r0` is beyond `FIRST_TOOTH_SHARE` of what it was (`before`);
+    /// the caller has the last `2 N` teeth armed. Out of the common path: most teeth never
+    /// get here.
+    #[inline(never)]
+    fn first_tooth(
+        &self,
+        st: &AlarmState,
+        r0: f32,
+        before: f32,
+        prev_steady: bool,
+        settled: bool,
+    ) -> Option<FirstTooth> {
+        let n = self.n;
+        let sigma_r = libm::sqrtf(0.5 * st.e_var);
+        let t = crate::fmath::max(FIRST_TOOTH_SHARE * before, FIRST_TOOTH_SIGMAS * sigma_r);
+        let quiet_bound = FIRST_TOOTH_QUIET_SIGMAS * sigma_r;
+        // A tooth alone, only out of a steady cut: an entry, exit or other ramp (the
+        // Monitor flags it transient) changes teeth by a share a revolution, noise on top.
+        // The noise figure must be a good one (a few dozen teeth into the cut), and at
+        // least FIRST_TOOTH_QUIET_TEETH teeth before it quiet (one tooth, with two flutes,
+        // says little about a ramp beginning).
+        let quiet_teeth = (n - 1).max(FIRST_TOOTH_QUIET_TEETH);
+        let bits = quiet_teeth + n + 1;
+        let mask = if bits >= 64 {
+            u64::MAX
+        } else {
+            (1u64 << bits) - 1
+        };
+        if prev_steady
+            && st.armed & mask == mask
+            && st.e_count as f32 >= 1.0 / E_ALPHA
+            && st.tooth(0) == st.tooth(n)
+            && libm::fabsf(r0) > t
+            && self.quiet(st, quiet_teeth, quiet_bound)
+        {
+            // A rise: the flute before broke after its engagement and this one took its
+            // chip; nothing else raises one tooth alone. A drop: a broken flute's period,
+            // or a lost tool's; the next tooth tells.
+            return Some(if r0 > 0.0 {
+                FirstTooth::Rise(r0, t)
+            } else {
+                FirstTooth::Drop(-r0, t, st.force(n - 1))
+            });
+        }
+        // The hand-over: the tooth after a drop takes the lost chip (its force up by as much
+        // as a first-tooth drop), the teeth before the drop unchanged. The drop itself may
+        // have been partial (the flute broke inside its period); an engagement step moves
+        // both teeth the same way.
+        let r1 = st.force(1) - st.force(n + 1);
+        let handed = settled
+            && n >= 2
+            && r0 > t
+            && st.tooth(1) == st.tooth(n + 1)
+            && r1 < -quiet_bound
+            && self.quiet_from(st, 2, quiet_bound);
+        handed.then_some(FirstTooth::Rise(r0, t))
+    }
+
     /// `|sum of R_k| / N` over the `N - 1` teeth before the newest, `R_k = F_k - F_{k+N}`
     /// their change from one revolution earlier, when every one of them is within
     /// `bound` (the newest tooth's change is then confined to it); `None` otherwise. The
@@ -1165,35 +1194,10 @@ impl Alarms {
     /// widened by the whole change.
     #[inline(never)]
     fn confined_growth(&self, st: &AlarmState, bound: f32) -> Option<f32> {
-        self.quiet_since(st, 1, bound)
-    }
-
-    /// Whether the changes from one revolution earlier of the `teeth` teeth before the
-    /// newest are all within `bound` (the caller has them and their predecessors armed).
-    #[inline(never)]
-    fn quiet(&self, st: &AlarmState, teeth: usize, bound: f32) -> bool {
-        let n = self.n;
-        let (mut i, mut j) = (st.slot(1), st.slot(n + 1));
-        for _ in 0..teeth {
-            let r =
-                st.hist_f.get(i).copied().unwrap_or(0.0) - st.hist_f.get(j).copied().unwrap_or(0.0);
-            #[allow(clippy::neg_cmp_op_on_partial_ord)]
-            if !(r.abs() <= bound) {
-                return false;
-            }
-            i = i.wrapping_sub(1) & (HISTORY - 1);
-            j = j.wrapping_sub(1) & (HISTORY - 1);
-        }
-        true
-    }
-
-    /// [`Self::confined_growth`] over the teeth `from..N` back (`from` >= 1).
-    #[inline(never)]
-    fn quiet_since(&self, st: &AlarmState, from: usize, bound: f32) -> Option<f32> {
         let n = self.n;
         let mut sum = 0.0f32;
-        let (mut i, mut j) = (st.slot(from), st.slot(n + from));
-        for _ in from..n {
+        let (mut i, mut j) = (st.slot(1), st.slot(n + 1));
+        for _ in 1..n {
             let r =
                 st.hist_f.get(i).copied().unwrap_or(0.0) - st.hist_f.get(j).copied().unwrap_or(0.0);
             #[allow(clippy::neg_cmp_op_on_partial_ord)]
@@ -1205,6 +1209,35 @@ impl Alarms {
             j = j.wrapping_sub(1) & (HISTORY - 1);
         }
         Some(sum.abs() / n as f32)
+    }
+
+    /// Whether the changes from one revolution earlier of the `teeth` teeth before the
+    /// newest are all within `bound` (the caller has them and their predecessors armed).
+    #[inline(never)]
+    fn quiet(&self, st: &AlarmState, teeth: usize, bound: f32) -> bool {
+        self.quiet_range(st, 1, 1 + teeth, bound)
+    }
+
+    /// [`Self::quiet`] for the teeth `from..N` back.
+    fn quiet_from(&self, st: &AlarmState, from: usize, bound: f32) -> bool {
+        self.quiet_range(st, from, self.n, bound)
+    }
+
+    /// Whether `|F_k - F_{k+N}| <= bound` for the teeth `k` in `from..to` back.
+    fn quiet_range(&self, st: &AlarmState, from: usize, to: usize, bound: f32) -> bool {
+        let n = self.n;
+        let (mut i, mut j) = (st.slot(from), st.slot(n + from));
+        for _ in from..to {
+            let r =
+                st.hist_f.get(i).copied().unwrap_or(0.0) - st.hist_f.get(j).copied().unwrap_or(0.0);
+            #[allow(clippy::neg_cmp_op_on_partial_ord)]
+            if !(r.abs() <= bound) {
+                return false;
+            }
+            i = i.wrapping_sub(1) & (HISTORY - 1);
+            j = j.wrapping_sub(1) & (HISTORY - 1);
+        }
+        true
     }
 
     /// Whether `rec` is a force collapse right after a steady cut while feeding.
