@@ -56,7 +56,8 @@
 //! - Overload: the revolution-mean force above what the configured maximum engagement
 //!   gives at the current feed per tooth (eq. 7), or above a force limit.
 //! - Teach-in: a recorded good cut's revolution-mean force against revolutions since the
-//!   cut began ([`Envelope`]); excursions beyond its band alarm.
+//!   cut began ([`Envelope`]); excursions beyond its band (the bin's and its neighbours':
+//!   a time tolerance for where the cut is seen to begin) alarm.
 //! - Wear: exponentially weighted recursive least squares with one parameter (paper 002's
 //!   single-parameter variant) tracks `theta` in `F_measured = theta * F_model`. Against the
 //!   estimated engagement a uniform rise of `K_s` cannot be told from a deeper cut (both
@@ -180,6 +181,11 @@ pub struct Envelope {
     pub revs_per_bin: u16,
     /// Bins in use.
     pub len: u16,
+    /// Revolution-mean force [N] at which bin 0 begins: a quarter of the taught peak.
+    /// Where a cut is seen to begin (the not-cutting floor crossed in a slow entry, in the
+    /// noise) moves by revolutions from run to run; where it reaches a quarter of its peak
+    /// does not.
+    pub start_n: f32,
     /// Lowest force seen in each bin [N].
     #[cfg_attr(feature = "serde", serde(with = "serde_arrays"))]
     pub lo_n: [f32; ENVELOPE_BINS],
@@ -411,6 +417,8 @@ pub struct AlarmState {
     teach_run: u8,
     /// Teeth since the cut began (for the envelope).
     cut_teeth: u32,
+    /// Not-cutting teeth in a row.
+    air_teeth: u16,
     /// Cached overload limit and the feed it was computed for.
     limit_tc_mm: f32,
     limit_n: f32,
@@ -446,6 +454,7 @@ impl Default for AlarmState {
             overload_run: 0,
             teach_run: 0,
             cut_teeth: 0,
+            air_teeth: 0,
             limit_tc_mm: f32::NAN,
             limit_n: f32::INFINITY,
             theta: 1.0,
@@ -490,6 +499,9 @@ enum FirstTooth {
 
 /// A single `E` beyond this multiple of the threshold raises a breakage by itself.
 const SINGLE_EXCEEDANCE: f32 = 3.0;
+
+/// Teach-in: a taught envelope begins where the force first reaches this share of its peak.
+const START_SHARE: f32 = 0.25;
 
 /// Share of the recent peak force that counts as cutting strongly (tool gone vs exit).
 const STRONG_SHARE: f32 = 0.6;
@@ -541,6 +553,11 @@ const BAD_DATA: Status = Status(
 /// (the redistributed chip enters the newest block before its counterpart does), and the
 /// detector tells a breakage from an engagement change by itself (see `process`).
 const NO_BREAKAGE_DECISION: Status = Status(BAD_DATA.0 | Status::FEED_CHANGE.0);
+
+/// Flags that keep the wear tracker from a record when its reference is a known
+/// engagement: bad data, and filtered forces that are not yet a steady cut's.
+const NO_WEAR_UPDATE: Status =
+    Status(BAD_DATA.0 | Status::TRANSIENT.0 | Status::FEED_CHANGE.0 | Status::SETTLING.0);
 
 /// Validated alarms.
 #[derive(Clone, Copy, Debug)]
@@ -900,18 +917,41 @@ impl Alarms {
         probe.mark(Stage::AlarmOverload);
 
         // --- teach-in -----------------------------------------------------------------
+        // Teeth since the cut began, as `EnvelopeRecorder::finish` aligns them: from the
+        // first tooth whose revolution mean reaches the envelope's start, every tooth; a
+        // revolution of air ends the cut (a tooth that dips under the not-cutting floor
+        // does not restart it).
         if rec.status.contains(Status::NOT_CUTTING) {
-            st.cut_teeth = 0;
+            st.air_teeth = st.air_teeth.saturating_add(1);
+            if st.air_teeth as usize >= n {
+                st.cut_teeth = 0;
+            }
         } else {
+            st.air_teeth = 0;
+        }
+        // With an envelope, the cut's count starts where it reaches the envelope's start.
+        let started = match (&self.cfg.teach.envelope, rev_mean) {
+            (Some(env), Some(m)) => m >= env.start_n,
+            (Some(_), None) => false,
+            (None, _) => !rec.status.contains(Status::NOT_CUTTING),
+        };
+        if st.cut_teeth > 0 || started {
             st.cut_teeth = st.cut_teeth.saturating_add(1);
         }
-        if let (Some(env), Some(mean)) = (&self.cfg.teach.envelope, rev_mean) {
+        if let (Some(env), Some(mean), true) =
+            (&self.cfg.teach.envelope, rev_mean, st.cut_teeth > 0)
+        {
             let bin = (st.cut_teeth as usize / n.max(1)) / env.revs_per_bin.max(1) as usize;
             if bin < env.len as usize {
-                let (lo, hi) = (
-                    env.lo_n.get(bin).copied().unwrap_or(0.0),
-                    env.hi_n.get(bin).copied().unwrap_or(f32::INFINITY),
-                );
+                // The band of this bin and its neighbours: where the cut is seen to begin
+                // moves by a tooth or two with the noise, and in a fast entry a bin's worth
+                // of shift is a large change of force (a time tolerance, as commercial
+                // teach-in monitors have).
+                let (mut lo, mut hi) = (f32::INFINITY, 0.0f32);
+                for k in bin.saturating_sub(1)..=(bin + 1).min(env.len as usize - 1) {
+                    lo = crate::fmath::min(lo, env.lo_n.get(k).copied().unwrap_or(0.0));
+                    hi = crate::fmath::max(hi, env.hi_n.get(k).copied().unwrap_or(f32::INFINITY));
+                }
                 let tol = self.cfg.teach.tolerance_rel;
                 let (lo, hi) = (lo * (1.0 - tol), hi * (1.0 + tol));
                 if mean < lo || mean > hi {
@@ -931,7 +971,13 @@ impl Alarms {
         // Value and threshold of a wear warning raised by this record.
         let mut wear_event = None;
         // Wear is slow: one update per revolution is plenty and keeps eq. 7 off most teeth.
-        if self.cfg.drift.enabled && rec.status.is_valid() && rec.tooth == 0 {
+        // Against the estimate, only a valid one; against a known engagement, any settled
+        // steady cut (an estimate flagged for the feed range or a clamp is irrelevant there).
+        let usable = match self.cfg.drift.reference {
+            DriftReference::Estimated => rec.status.is_valid(),
+            DriftReference::Known { .. } => !rec.status.intersects(NO_WEAR_UPDATE),
+        };
+        if self.cfg.drift.enabled && usable && rec.tooth == 0 {
             let phi = match (self.cfg.drift.reference, model_n) {
                 // The estimator's eq. 7 at this very estimate: no second evaluation.
                 (DriftReference::Estimated, Some([fx, ft])) => self.signal(fx, ft).abs(),
@@ -1265,6 +1311,7 @@ impl EnvelopeRecorder {
             env: Envelope {
                 revs_per_bin: revs_per_bin.max(1),
                 len: 0,
+                start_n: 0.0,
                 lo_n: [f32::INFINITY; ENVELOPE_BINS],
                 hi_n: [0.0; ENVELOPE_BINS],
             },
@@ -1298,8 +1345,23 @@ impl EnvelopeRecorder {
     }
 
     /// The envelope so far.
+    /// The envelope, its bins from the one where the force first reached a quarter of
+    /// its peak ([`Envelope::start_n`]).
     pub fn finish(&self) -> Envelope {
-        self.env
+        let mut env = self.env;
+        let len = env.len as usize;
+        let peak = env.hi_n.iter().take(len).fold(0.0f32, |a, &b| a.max(b));
+        env.start_n = START_SHARE * peak;
+        let b0 = env
+            .hi_n
+            .iter()
+            .take(len)
+            .position(|&h| h >= env.start_n)
+            .unwrap_or(0);
+        env.lo_n.copy_within(b0..len, 0);
+        env.hi_n.copy_within(b0..len, 0);
+        env.len = (len - b0) as u16;
+        env
     }
 }
 

@@ -217,6 +217,53 @@ fn teach_in_accepts_the_taught_cut_and_flags_a_different_one() {
     );
 }
 
+/// The same job run again on a blank whose face is a little proud (a 0.03 mm skim for
+/// three revolutions before the entry), with other noise: where the cut is first seen
+/// moves, where it reaches a quarter of its force does not; no excursion. The job on deeper
+/// stock still flags.
+#[test]
+fn teach_in_aligns_the_cut_where_its_force_builds_up() {
+    let job = |skim_s: f64, da: f64, seed| {
+        let mut segs = vec![seg(0.3, 0.0, da, 500.0)];
+        if skim_s > 0.0 {
+            segs.push(seg(skim_s, 0.03, da, 500.0));
+        }
+        // A slow entry: the radial depth grows over a tool radius of travel.
+        segs.extend(travel(
+            &seg(0.0, 0.0, da, 500.0),
+            &seg(0.0, 4.0, da, 500.0),
+            8.0,
+            16,
+        ));
+        segs.push(seg(2.0, 4.0, da, 500.0));
+        let mut sc = paper(segs, seed);
+        sc.noise_rel = 0.03;
+        run(&sc, config(MillingMode::Down, 10_000.0))
+    };
+    let mut rec = EnvelopeRecorder::new(4, 2);
+    for (r, _) in job(0.0, 6.0, 11) {
+        rec.push(&r);
+    }
+    let env = rec.finish();
+    assert!(env.start_n > 0.0 && env.len > 10, "{} bins", env.len);
+    let mut cfg = AlarmConfig::default();
+    cfg.teach.envelope = Some(env);
+    for seed in 12..=14 {
+        let (ev, _) = alarms(&job(0.3, 6.0, seed), cfg);
+        assert!(
+            alarm_causes(&ev).is_empty(),
+            "seed {seed}: {:?}",
+            ev.iter()
+                .map(|e| (e.cause, e.value, e.threshold, e.record.time_s(10_000.0)))
+                .collect::<Vec<_>>()
+        );
+    }
+    assert_eq!(
+        alarm_causes(&alarms(&job(0.3, 9.0, 12), cfg).0),
+        vec![Cause::TeachExcursion]
+    );
+}
+
 #[test]
 fn wear_multiplier_tracks_force_against_a_known_engagement() {
     let recs = run(
@@ -238,6 +285,17 @@ fn wear_multiplier_tracks_force_against_a_known_engagement() {
     };
     let (events, theta) = alarms(&recs, cfg);
     assert!((theta - 1.4).abs() < 0.05, "worn: {theta}");
+    assert!(events.iter().any(|e| e.cause == Cause::Wear));
+    // Against a known engagement the estimate's own flags do not matter: at a feed below
+    // the coefficients' fitted range (every estimate flagged tc_out_of_range) it tracks
+    // the same.
+    let slow = run(
+        &paper(vec![seg(4.0, 3.0, 6.0, 200.0)], 6),
+        config(MillingMode::Down, 10_000.0),
+    );
+    assert!(slow.iter().skip(100).all(|(r, _)| !r.status.is_valid()));
+    let (events, theta) = alarms(&slow, cfg);
+    assert!((theta - 1.4).abs() < 0.05, "worn, slow feed: {theta}");
     assert!(events.iter().any(|e| e.cause == Cause::Wear));
 }
 
