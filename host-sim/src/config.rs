@@ -32,26 +32,42 @@ tc_fit_mm = [0.1042, 0.4667]
 "#;
 
 /// `base` with every key of `patch` laid over it (tables merged key by key, other values
-/// replaced); a key `base` lacks is an error naming its dotted path. `at` is the path of
-/// `base` itself ("" at the top).
-fn overlay(base: &mut toml::Table, patch: toml::Table, at: &str) -> Result<()> {
+/// replaced, keys `base` lacks added: an optional field left at `None` is absent from the
+/// serialised defaults).
+fn overlay(base: &mut toml::Table, patch: &toml::Table) {
+    for (key, value) in patch {
+        match (base.get_mut(key), value) {
+            (Some(toml::Value::Table(b)), toml::Value::Table(p)) => overlay(b, p),
+            (Some(slot), v) => *slot = v.clone(),
+            (None, v) => {
+                base.insert(key.clone(), v.clone());
+            }
+        }
+    }
+}
+
+/// Every key of `patch` must be in `result` (the merged configuration, deserialised and
+/// serialised again): serde drops a key it does not know, so a key missing there was
+/// misspelt (`radius = 6` for `radius_mm = 6`); the error names its dotted path and what
+/// that table takes. `at` is the path of `patch` itself ("" at the top).
+fn check_known(result: &toml::Table, patch: &toml::Table, at: &str) -> Result<()> {
     for (key, value) in patch {
         let path = if at.is_empty() {
             key.clone()
         } else {
             format!("{at}.{key}")
         };
-        let known = base
-            .keys()
-            .map(String::as_str)
-            .collect::<Vec<_>>()
-            .join(", ");
-        let Some(slot) = base.get_mut(&key) else {
-            bail!("unknown key `{path}` (expected one of: {known})");
-        };
-        match (slot, value) {
-            (toml::Value::Table(b), toml::Value::Table(p)) => overlay(b, p, &path)?,
-            (slot, v) => *slot = v,
+        match (result.get(key), value) {
+            (None, _) => {
+                let known = result
+                    .keys()
+                    .map(String::as_str)
+                    .collect::<Vec<_>>()
+                    .join(", ");
+                bail!("unknown key `{path}` (expected one of: {known})");
+            }
+            (Some(toml::Value::Table(r)), toml::Value::Table(p)) => check_known(r, p, &path)?,
+            _ => {}
         }
     }
     Ok(())
@@ -65,10 +81,13 @@ pub fn override_from<T: Serialize + DeserializeOwned>(
 ) -> Result<T> {
     let patch = parse_toml::<toml::Table>(text, file)?;
     let mut merged = toml::Table::try_from(base).context("serialising the defaults")?;
-    overlay(&mut merged, patch, "").with_context(|| file.to_string())?;
-    merged
+    overlay(&mut merged, &patch);
+    let out: T = merged
         .try_into()
-        .map_err(|e: toml::de::Error| anyhow!("{file}: {}", e.message().trim()))
+        .map_err(|e: toml::de::Error| anyhow!("{file}: {}", e.message().trim()))?;
+    let result = toml::Table::try_from(&out).context("serialising the configuration")?;
+    check_known(&result, &patch, "").with_context(|| file.to_string())?;
+    Ok(out)
 }
 
 /// Reads a TOML file.

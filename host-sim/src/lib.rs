@@ -14,6 +14,7 @@
 //!   [`records`] (per-tooth CSV) and a [`plot`]; [`kistler`] reads dynamometer exports.
 //! - [`sim`]: the analytic trace simulator (`simulate`).
 //! - [`demo`]: a built-in cut simulated, replayed, tabulated and plotted (`demo`).
+//! - [`teach`]: a good cut's force envelope (teach-in) into the machine file (`teach`).
 //! - [`telemetry`]: the board's UART telemetry capture -> records CSV (`decode-telemetry`).
 
 pub mod calibrate;
@@ -29,6 +30,7 @@ pub mod plot;
 pub mod records;
 pub mod replay;
 pub mod sim;
+pub mod teach;
 pub mod telemetry;
 pub mod trace;
 pub mod voxel;

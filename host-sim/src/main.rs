@@ -81,6 +81,8 @@ enum Command {
         #[arg(long, value_name = "FILE")]
         output: PathBuf,
     },
+    /// Teach-in: record a good run's force envelope into the machine file.
+    Teach(host_sim::teach::TeachArgs),
     /// Decode a capture of the board's UART telemetry into the per-tooth records CSV.
     #[command(after_help = host_sim::telemetry::DECODE_HELP)]
     DecodeTelemetry(host_sim::telemetry::DecodeArgs),
@@ -264,6 +266,7 @@ fn run(cli: Cli) -> Result<()> {
         Command::BenchReplay { seconds, repeat } => bench_replay_cmd(seconds, repeat),
         Command::Voxel(args) => host_sim::voxel::run(&args),
         Command::MachineRs { config, output } => machine_rs_cmd(&config, &output),
+        Command::Teach(args) => host_sim::teach::run(&args),
         Command::Calibrate(cmd) => host_sim::calibrate::run(&cmd),
         Command::Demo(args) => host_sim::demo::run(&args).map(drop),
         Command::DecodeTelemetry(args) => host_sim::telemetry::run(&args).map(drop),

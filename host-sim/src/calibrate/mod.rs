@@ -209,15 +209,16 @@ fn write_file(path: &Path, bytes: &[u8]) -> Result<()> {
     write_then_rename(path, |w| w.write_all(bytes).map_err(Into::into))
 }
 
-/// Writes the machine file and checks that `replay` reads back the same configuration.
-fn write_machine(
-    common: &Common,
+/// Writes the machine file to `output` and checks that `replay` reads back the same
+/// configuration; `command` (`calibrate friction`, `teach`) and `inputs` go in its header.
+pub(crate) fn write_machine(
+    output: &Path,
     cfg: &LoadedConfig,
-    step: &str,
+    command: &str,
     inputs: &[PathBuf],
 ) -> Result<()> {
     let header = format!(
-        "Machine file written by `host-sim calibrate {step}` from {} (base: {}).\n\
+        "Machine file written by `host-sim {command}` from {} (base: {}).\n\
          Read by `host-sim replay --config`; its [estimator] table by `estimate --tool`.",
         inputs
             .iter()
@@ -229,14 +230,14 @@ fn write_machine(
     let text = machine_toml(cfg, &header)?;
     let back = crate::replay::parse_monitor_config(
         &text,
-        &common.output.display().to_string(),
+        &output.display().to_string(),
         Some(f64::from(cfg.config.sample_rate_hz)),
     )?;
     if back.config != cfg.config || back.alarms != cfg.alarms || back.front_end != cfg.front_end {
         bail!("internal: the machine file written does not read back the same (please report)");
     }
-    write_file(&common.output, text.as_bytes())?;
-    eprintln!("wrote {}", common.output.display());
+    write_file(output, text.as_bytes())?;
+    eprintln!("wrote {}", output.display());
     Ok(())
 }
 
@@ -339,7 +340,7 @@ fn run_friction(common: &Common, traces: &[PathBuf]) -> Result<()> {
         feed.axes[axis] = f.axis_out;
     }
     emit_report(common, "friction", &report, &panels)?;
-    write_machine(common, &cfg, "friction", traces)
+    write_machine(&common.output, &cfg, "calibrate friction", traces)
 }
 
 fn run_spindle(common: &Common, breaks: Option<&[f64]>, traces: &[PathBuf]) -> Result<()> {
@@ -418,7 +419,7 @@ fn run_spindle(common: &Common, breaks: Option<&[f64]>, traces: &[PathBuf]) -> R
         *spindle = fit.model;
     }
     emit_report(common, "spindle", &report, &panels)?;
-    write_machine(common, &cfg, "spindle", traces)
+    write_machine(&common.output, &cfg, "calibrate spindle", traces)
 }
 
 /// `<output stem>.<suffix>` beside the output.
@@ -602,5 +603,11 @@ fn run_cutting(
     }
     cfg.config.estimator.coeffs = power.coeffs;
     emit_report(common, "cutting", &report, &panels)?;
-    write_machine(common, &cfg, "cutting", &[plan.to_path_buf()]).map_err(|e| anyhow!("{e:#}"))
+    write_machine(
+        &common.output,
+        &cfg,
+        "calibrate cutting",
+        &[plan.to_path_buf()],
+    )
+    .map_err(|e| anyhow!("{e:#}"))
 }
