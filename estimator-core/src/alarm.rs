@@ -1240,10 +1240,29 @@ impl Alarms {
     /// widened by the whole change.
     #[inline(never)]
     fn confined_growth(&self, st: &AlarmState, bound: f32) -> Option<f32> {
+        self.changes_within(st, 1, self.n, bound)
+            .map(|sum| sum.abs() / self.n as f32)
+    }
+
+    /// Whether the changes from one revolution earlier of the `teeth` teeth before the
+    /// newest are all within `bound` (the caller has them and their predecessors armed).
+    fn quiet(&self, st: &AlarmState, teeth: usize, bound: f32) -> bool {
+        self.changes_within(st, 1, 1 + teeth, bound).is_some()
+    }
+
+    /// [`Self::quiet`] for the teeth `from..N` back.
+    fn quiet_from(&self, st: &AlarmState, from: usize, bound: f32) -> bool {
+        self.changes_within(st, from, self.n, bound).is_some()
+    }
+
+    /// The sum of `R_k = F_k - F_{k+N}` over the teeth `k` in `from..to` back when every
+    /// one is within `bound`; `None` otherwise.
+    #[inline(never)]
+    fn changes_within(&self, st: &AlarmState, from: usize, to: usize, bound: f32) -> Option<f32> {
         let n = self.n;
         let mut sum = 0.0f32;
-        let (mut i, mut j) = (st.slot(1), st.slot(n + 1));
-        for _ in 1..n {
+        let (mut i, mut j) = (st.slot(from), st.slot(n + from));
+        for _ in from..to {
             let r =
                 st.hist_f.get(i).copied().unwrap_or(0.0) - st.hist_f.get(j).copied().unwrap_or(0.0);
             #[allow(clippy::neg_cmp_op_on_partial_ord)]
@@ -1254,36 +1273,7 @@ impl Alarms {
             i = i.wrapping_sub(1) & (HISTORY - 1);
             j = j.wrapping_sub(1) & (HISTORY - 1);
         }
-        Some(sum.abs() / n as f32)
-    }
-
-    /// Whether the changes from one revolution earlier of the `teeth` teeth before the
-    /// newest are all within `bound` (the caller has them and their predecessors armed).
-    #[inline(never)]
-    fn quiet(&self, st: &AlarmState, teeth: usize, bound: f32) -> bool {
-        self.quiet_range(st, 1, 1 + teeth, bound)
-    }
-
-    /// [`Self::quiet`] for the teeth `from..N` back.
-    fn quiet_from(&self, st: &AlarmState, from: usize, bound: f32) -> bool {
-        self.quiet_range(st, from, self.n, bound)
-    }
-
-    /// Whether `|F_k - F_{k+N}| <= bound` for the teeth `k` in `from..to` back.
-    fn quiet_range(&self, st: &AlarmState, from: usize, to: usize, bound: f32) -> bool {
-        let n = self.n;
-        let (mut i, mut j) = (st.slot(from), st.slot(n + from));
-        for _ in from..to {
-            let r =
-                st.hist_f.get(i).copied().unwrap_or(0.0) - st.hist_f.get(j).copied().unwrap_or(0.0);
-            #[allow(clippy::neg_cmp_op_on_partial_ord)]
-            if !(r.abs() <= bound) {
-                return false;
-            }
-            i = i.wrapping_sub(1) & (HISTORY - 1);
-            j = j.wrapping_sub(1) & (HISTORY - 1);
-        }
-        true
+        Some(sum)
     }
 
     /// Whether `rec` is a force collapse right after a steady cut while feeding.
