@@ -477,6 +477,34 @@ pub fn fit_power(tool: &Tool, cuts: &[CutPoint], base: &CuttingCoefficients) -> 
     })
 }
 
+/// How far the cuts' mean forces lie from eq. 7 with `coeffs`: the root mean square over
+/// the cuts and both measured channels of `(measured - model) / F_at model` (the feed
+/// force, near zero in some cuts, is taken relative to the tangential one). What the fitted
+/// laws leave unexplained, as a relative error of a force channel: the estimator's
+/// `gain_uncertainty`, the calibration's share of each estimate's uncertainty.
+pub fn relative_force_rms(tool: &Tool, cuts: &[CutPoint], coeffs: &CuttingCoefficients) -> f64 {
+    let mut sum = 0.0;
+    let mut n = 0usize;
+    for c in cuts {
+        let e = Engagement {
+            rr: c.rr as f32,
+            ra: c.ra as f32,
+            tc_mm: c.tc_mm as f32,
+        };
+        let m = estimator_core::average_forces(tool, coeffs, c.mode, e);
+        let scale = f64::from(m.ft_n).abs();
+        let (second, model2) = match c.second {
+            Second::Tangential(f) => (f, m.ft_n),
+            Second::Normal(f) => (f, m.fy_n),
+        };
+        for (meas, model) in [(c.fx_n, m.fx_n), (second, model2)] {
+            sum += ((meas - f64::from(model)) / scale).powi(2);
+            n += 1;
+        }
+    }
+    (sum / n.max(1) as f64).sqrt()
+}
+
 /// Fits the linear shearing + edge coefficients (see the module docs).
 pub fn fit_linear_model(tool: &Tool, cuts: &[CutPoint]) -> Result<LinearFitResult> {
     let axial = cuts.iter().all(|c| c.fz_n.is_some());
@@ -634,6 +662,18 @@ mod tests {
                     );
                 }
                 assert!(fit.r2.is_some());
+                // Eq. 7 with the laws it came from explains the cuts; one tangential force
+                // 3 % off is 3 % over sqrt(2 cuts) of the rms.
+                assert!(relative_force_rms(&tool, &cuts, &TABLE2) < 1e-4);
+                if motor {
+                    let mut off = cuts.clone();
+                    if let Second::Tangential(f) = off[0].second {
+                        off[0].second = Second::Tangential(1.03 * f);
+                    }
+                    let want = 0.03 / (2.0 * off.len() as f64).sqrt();
+                    let got = relative_force_rms(&tool, &off, &TABLE2);
+                    assert!((got / want - 1.0).abs() < 1e-3, "{got} vs {want}");
+                }
                 assert_eq!(fit.coeffs.tc_fit_mm, (0.1042, 0.4667));
                 // Exact data: the residuals are rounding.
                 assert!(fit.ks.fit.rms < 1e-5, "{}", fit.ks.fit.rms);

@@ -6,7 +6,8 @@
 //! 2. [`spindle`]: the spindle's idle signal against speed from a speed sweep;
 //! 3. [`cutting`]: the power laws of eq. 9 (what the estimator runs on) and the linear
 //!    shearing / edge coefficients from calibration cuts of known engagement, plus the
-//!    `f_xt` polynomial for the new coefficients ([`crate::gen_poly`]).
+//!    `f_xt` polynomial for the new coefficients ([`crate::gen_poly`]); what the laws leave
+//!    unexplained becomes the estimator's `gain_uncertainty`.
 //!
 //! Each step prints a report (every point, the fit, residuals, 95 % intervals) and can
 //! write it with a plot (`--report-dir`). The machine file is the one `replay` reads; its
@@ -602,6 +603,25 @@ fn run_cutting(
         );
     }
     cfg.config.estimator.coeffs = power.coeffs;
+    // The fit's own error becomes the estimator's gain uncertainty (each estimate's sigma
+    // then carries the calibration's share, method.md section 2).
+    let gain = cutting::relative_force_rms(&tool, &cuts, &power.coeffs);
+    if gain.is_finite() && gain < 0.5 {
+        cfg.config.estimator.gain_uncertainty = gain as f32;
+        let _ = writeln!(
+            report,
+            "Mean forces against eq. 7 with the fitted laws: {:.2} % rms (of F_at), written as \
+             estimator.gain_uncertainty.\n",
+            100.0 * gain
+        );
+    } else {
+        let _ = writeln!(
+            report,
+            "Mean forces against eq. 7 with the fitted laws: {:.1} % rms: the power laws do not \
+             describe these cuts (check the plan's depths and modes); gain_uncertainty kept.\n",
+            100.0 * gain
+        );
+    }
     emit_report(common, "cutting", &report, &panels)?;
     write_machine(
         &common.output,
