@@ -22,9 +22,21 @@ fn dir(name: &str) -> PathBuf {
     d
 }
 
+/// One feed axis of the board: the data-sheet constants (1.2 N m/A, 10 mm lead, 90 %) with
+/// the given offset [A], Coulomb [N] and viscous [N per mm/min] friction.
+fn axis(offset_a: f64, coulomb_n: f64, viscous: f64) -> String {
+    format!(
+        "[[input.motor.feed.axes]]\ntorque_constant_nm_per_a = 1.2\nscrew_lead_mm = 10.0\n\
+         efficiency = 0.9\ncurrent_offset_a = {offset_a:?}\ncoulomb_n = {coulomb_n:?}\n\
+         viscous_n_per_mm_min = {viscous:?}\nstiction_band_mm_min = 1.0\nsign = 1.0\n"
+    )
+}
+
 /// The simulated machine: the drive's data-sheet constants, its friction and offset, the
 /// spindle's torque constant and idle current (a slope change at 6000 rpm).
-const MACHINE: &str = r#"
+fn machine() -> String {
+    format!(
+        r#"
 sample_rate_hz = 10000.0
 seed = 7
 material = "table2"
@@ -34,39 +46,27 @@ flutes = 4
 helix_deg = 30.0
 [input.motor.feed]
 two_axis = false
-[[input.motor.feed.axes]]
-torque_constant_nm_per_a = 1.2
-screw_lead_mm = 10.0
-efficiency = 0.9
-current_offset_a = 0.05
-coulomb_n = 40.0
-viscous_n_per_mm_min = 0.02
-stiction_band_mm_min = 1.0
-sign = 1.0
-[[input.motor.feed.axes]]
-torque_constant_nm_per_a = 1.2
-screw_lead_mm = 10.0
-efficiency = 0.9
-current_offset_a = 0.0
-coulomb_n = 0.0
-viscous_n_per_mm_min = 0.0
-stiction_band_mm_min = 1.0
-sign = 1.0
-[input.motor.spindle.current]
+{}{}[input.motor.spindle.current]
 torque_constant_nm_per_a = 0.8
 idle_current_a = [
-  { from_rpm = 0.0, slope = 1e-4, intercept = 0.5 },
-  { from_rpm = 6000.0, slope = 3e-4, intercept = -0.7 },
+  {{ from_rpm = 0.0, slope = 1e-4, intercept = 0.5 }},
+  {{ from_rpm = 6000.0, slope = 3e-4, intercept = -0.7 }},
 ]
 [signal]
 feed_noise = 0.01
 spindle_noise = 0.05
 feed_lag_s = 0.0005
 spindle_lag_s = 0.002
-"#;
+"#,
+        axis(0.05, 40.0, 0.02),
+        axis(0.0, 0.0, 0.0)
+    )
+}
 
 /// What the user knows before calibrating: the data sheets, no friction, no idle.
-const BASE: &str = r#"
+fn base() -> String {
+    format!(
+        r#"
 max_rpm = 15000.0
 [estimator]
 mode = "down"
@@ -76,31 +76,17 @@ flutes = 4
 helix_deg = 30.0
 [input.motor.feed]
 two_axis = false
-[[input.motor.feed.axes]]
-torque_constant_nm_per_a = 1.2
-screw_lead_mm = 10.0
-efficiency = 0.9
-current_offset_a = 0.0
-coulomb_n = 0.0
-viscous_n_per_mm_min = 0.0
-stiction_band_mm_min = 1.0
-sign = 1.0
-[[input.motor.feed.axes]]
-torque_constant_nm_per_a = 1.2
-screw_lead_mm = 10.0
-efficiency = 0.9
-current_offset_a = 0.0
-coulomb_n = 0.0
-viscous_n_per_mm_min = 0.0
-stiction_band_mm_min = 1.0
-sign = 1.0
-[input.motor.spindle.current]
+{}{}[input.motor.spindle.current]
 torque_constant_nm_per_a = 0.8
-idle_current_a = [{ from_rpm = 0.0, slope = 0.0, intercept = 0.0 }]
-"#;
+idle_current_a = [{{ from_rpm = 0.0, slope = 0.0, intercept = 0.0 }}]
+"#,
+        axis(0.0, 0.0, 0.0),
+        axis(0.0, 0.0, 0.0)
+    )
+}
 
 fn simulate(d: &Path, name: &str, segments: &str) -> PathBuf {
-    let text = format!("{MACHINE}\n{segments}");
+    let text = format!("{}\n{segments}", machine());
     let sc = Scenario::from_toml(&text, name).expect("scenario");
     let path = d.join(format!("{name}.csv"));
     let f = std::io::BufWriter::new(std::fs::File::create(&path).expect("trace file"));
@@ -169,7 +155,7 @@ fn whole_calibration_recovers_the_simulated_machine() {
     }
     simulate(&d, "cuts", &cuts);
     std::fs::write(d.join("plan.toml"), plan).expect("plan");
-    std::fs::write(d.join("base.toml"), BASE).expect("base");
+    std::fs::write(d.join("base.toml"), base()).expect("base");
 
     run(&CalibrateCmd::Friction {
         common: common(&d, Some(&d.join("base.toml")), "m1.toml"),
@@ -285,7 +271,7 @@ fn whole_calibration_recovers_the_simulated_machine() {
 #[test]
 fn missing_recordings_are_errors_that_say_what_to_record() {
     let d = dir("errors");
-    std::fs::write(d.join("base.toml"), BASE).expect("base");
+    std::fs::write(d.join("base.toml"), base()).expect("base");
     let one_way = simulate(
         &d,
         "one_way",
@@ -335,7 +321,7 @@ low_winding_load_ratio = [[1000.0, 23.0], [1750.0, 13.3], [2300.0, 13.3], [3000.
 high_winding_load_ratio = [[5000.0, 10.9], [6000.0, 9.1], [10000.0, 9.1], [12000.0, 9.1], [15000.0, 9.1], [18000.0, 10.3], [20000.0, 11.2]]
 switch_rpm = 3568.0
 "#;
-    let machine = MACHINE
+    let machine = machine()
         .replace("sample_rate_hz = 10000.0", "sample_rate_hz = 20000.0")
         .split("[input.motor.spindle.current]")
         .next()
@@ -356,7 +342,7 @@ switch_rpm = 3568.0
     let trace = d.join("sweep.csv");
     let f = std::io::BufWriter::new(std::fs::File::create(&trace).expect("trace file"));
     sim::write_trace(&sc, f).expect("simulate");
-    let base = BASE
+    let base = base()
         .replace("max_rpm = 15000.0", "max_rpm = 24000.0")
         .split("[input.motor.spindle.current]")
         .next()
