@@ -30,20 +30,18 @@
 //!     tooth lost, another gained; the total stays). It sees a loss spread over two tooth
 //!     periods (several flutes engaged at once), where no single `E` passes.
 //!   - a first tooth alone: out of a steady cut (the record before not transient, the
-//!     noise figure settled), a tooth whose force moved from one revolution earlier by
+//!     noise figure settled), a tooth whose force rose from one revolution earlier by
 //!     more than 35 % of it and 6 sigma_R, with at least the 3 (and the `N - 1`) teeth
-//!     before it unchanged within 3 sigma_R. A flute lost between its engagements takes
-//!     its next period's whole force away (a drop), or the tooth after it takes its chip
-//!     first (a rise); the next tooth, which the rules above need, can come after the
-//!     revolution is over. Nothing physical moves one tooth alone by that much: an
-//!     engagement change is entered over about a tool radius of travel (tens of teeth; the
-//!     Monitor flags it transient, and the teeth before move too), a feed or speed step is
-//!     flagged. A rise is a breakage at once. A drop latches the output at once and is
-//!     named with the next tooth: below [`GONE_SHARE`] of that tooth's force one
-//!     revolution earlier (nothing cuts) it is a lost tool, else a breakage; the event
-//!     then carries the record that latched. And the hand-over: a tooth that rose as much,
-//!     right after a tooth that dropped (the flute broke inside its period), the teeth
-//!     before both unchanged.
+//!     before it unchanged within 3 sigma_R: the flute before broke after its engagement
+//!     and this one took its chip. And the hand-over: a tooth that rose as much right
+//!     after a tooth that dropped (the flute broke inside its period), the teeth before
+//!     both unchanged. A drop alone is never decided: the first tooth of an exit through
+//!     a face square to the feed loses as much (the arc's far reach, where the chip is
+//!     thickest, leaves the work first; the force falls as the square root of the
+//!     travel). A breakage is told from an exit by the chip the next flute takes.
+//!   - two teeth in a row fallen below [`GONE_SHARE`] of their force one revolution
+//!     earlier raise no breakage: nothing cuts (a lost tool, whose flutes of unequal
+//!     runout fall by unequal amounts and swing `E` both ways, or an exit's end).
 //!
 //!   Not decided on feed/speed changes, air cuts or bad input. A period flagged invalid
 //!   only for its length jump (sync jitter at short periods), in tooth order and within a
@@ -426,10 +424,6 @@ pub struct AlarmState {
     p: f32,
     wear_warned: bool,
     latched: Option<AlarmEvent>,
-    /// A first-tooth decision (see [`FIRST_TOOTH_SHARE`]): the output is latched, the
-    /// event waits for the next tooth to tell its cause; with the force the next tooth had
-    /// one revolution earlier.
-    pending: Option<(AlarmEvent, f32)>,
     /// The previous record carried no transient flag (the cut was steady before it).
     prev_steady: bool,
 }
@@ -461,12 +455,15 @@ impl Default for AlarmState {
             p: P0,
             wear_warned: false,
             latched: None,
-            pending: None,
             prev_steady: false,
         }
     }
 }
 
+/// E values the breakage rules wait for (and at least two revolutions'): a spread from
+/// fewer is too uncertain for a 4-sigma floor (a cut entered through a face grows
+/// unevenly tooth to tooth for its first revolutions).
+const SETTLED_E: usize = 32;
 /// Weight of a new E in its running variance (memory of about 32 teeth).
 const E_ALPHA: f32 = 1.0 / 32.0;
 /// Breakage threshold floor, in standard deviations of E.
@@ -486,16 +483,9 @@ const FIRST_TOOTH_SIGMAS: f32 = 6.0;
 const FIRST_TOOTH_QUIET_SIGMAS: f32 = 3.0;
 /// At least this many teeth before the first tooth must be quiet.
 const FIRST_TOOTH_QUIET_TEETH: usize = 3;
-/// After a first-tooth decision, the next tooth below this share of its force one
-/// revolution earlier means nothing cuts any more: the tool is gone, not a flute.
+/// Two teeth in a row below this share of their force one revolution earlier: nothing
+/// cuts any more (a lost tool, the last teeth of an exit), not a lost flute.
 const GONE_SHARE: f32 = 0.3;
-
-/// What a first-tooth rule decided: `(value, threshold)`, and for a drop the next tooth's
-/// force one revolution earlier (to tell a lost tool).
-enum FirstTooth {
-    Rise(f32, f32),
-    Drop(f32, f32, f32),
-}
 
 /// A single `E` beyond this multiple of the threshold raises a breakage by itself.
 const SINGLE_EXCEEDANCE: f32 = 3.0;
@@ -659,14 +649,6 @@ impl Alarms {
         st.last_samples = rec.samples;
         let prev_steady = st.prev_steady;
         st.prev_steady = !rec.status.contains(Status::TRANSIENT);
-        // A first-tooth decision of the tooth before: its cause, from this tooth (a broken
-        // flute's chip goes to this one; a lost tool leaves nothing).
-        // (Tested in place: taking the pending event out would copy it on every tooth.)
-        let resolved = if st.pending.is_some() {
-            self.resolve_pending(st, rec)
-        } else {
-            None
-        };
         let (bad_data, no_decision) = if jittered {
             let keep = !Status::PERIOD_INVALID.0;
             (
@@ -710,8 +692,14 @@ impl Alarms {
         // The first alarm raised: cause, value, threshold (the event, with its copy of the
         // record, is made once at the end).
         let mut raised: Option<(Cause, f32, f32)> = None;
+        // Two teeth in a row fallen to a fraction of their force one revolution earlier:
+        // nothing cuts any more (a lost tool, or the last teeth of an exit), not a flute
+        // lost (its chip goes to the next tooth). With unequal flutes (runout) the drops
+        // differ and `E` swings both ways: the breakage rules leave it to tool gone.
+        let collapsed =
+            st.force(0) < GONE_SHARE * st.force(n) && st.force(1) < GONE_SHARE * st.force(n + 1);
         let mut raise = |cause, value, threshold| {
-            if raised.is_none() {
+            if raised.is_none() && !(cause == Cause::Breakage && collapsed) {
                 raised = Some((cause, value, threshold));
             }
         };
@@ -728,7 +716,6 @@ impl Alarms {
         // revolution total stays. Engagement, feed and speed changes move every tooth the
         // same way: `E` then has one sign. Both signs are required.
         let deciding = !rec.status.intersects(no_decision);
-        let mut first_tooth: Option<(f32, f32, f32)> = None;
         if self.cfg.breakage.enabled && deciding {
             if let Some(e) = self.first_difference_change(st) {
                 let k = self.cfg.breakage.threshold_rel;
@@ -747,7 +734,7 @@ impl Alarms {
                 let e_var = st.e_var;
                 let clip = k * measured;
                 let mut exceeded = false;
-                let settled = st.e_count as usize >= 2 * n;
+                let settled = st.e_count as usize >= (2 * n).max(SETTLED_E);
                 // Cheap screen first: the model threshold is only needed near the limit, and
                 // no threshold is below `max(screen, floor)`: the square root is taken only
                 // past `screen`, the model only past that.
@@ -834,16 +821,12 @@ impl Alarms {
                 // The first-tooth rules, past a cheap screen (see `first_tooth`).
                 let (r0, before) = (st.force(0) - st.force(n), st.force(n));
                 #[allow(clippy::neg_cmp_op_on_partial_ord)]
-                let moved = !(libm::fabsf(r0) <= FIRST_TOOTH_SHARE * before);
+                let moved = !(r0 <= FIRST_TOOTH_SHARE * before);
                 if moved && rev_change.is_some() {
-                    match self.first_tooth(st, r0, before, prev_steady, settled) {
-                        Some(FirstTooth::Rise(value, threshold)) => {
-                            raise(Cause::Breakage, value, threshold)
-                        }
-                        Some(FirstTooth::Drop(value, threshold, next_before)) => {
-                            first_tooth = Some((value, threshold, next_before))
-                        }
-                        None => {}
+                    if let Some((value, threshold)) =
+                        self.first_tooth(st, r0, before, prev_steady, settled)
+                    {
+                        raise(Cause::Breakage, value, threshold);
                     }
                 }
                 if !exceeded {
@@ -1007,15 +990,15 @@ impl Alarms {
         // Built by one struct expression, straight into the caller's place (an
         // `AlarmOutput` is 96 bytes: built in a local and returned, it is copied by a
         // `memcpy` call).
-        if raised.is_none() && wear_event.is_none() && resolved.is_none() && first_tooth.is_none() {
+        if raised.is_none() && wear_event.is_none() {
             return AlarmOutput {
                 event: None,
-                latched: st.latched.is_some() || st.pending.is_some(),
+                latched: st.latched.is_some(),
                 wear: st.theta,
                 wear_warning: st.wear_warned,
             };
         }
-        Self::output_with_event(st, rec, raised, wear_event, resolved, first_tooth)
+        Self::output_with_event(st, rec, raised, wear_event)
     }
 
     /// The output of a record that raised an alarm or the wear warning (rare: out of the
@@ -1027,41 +1010,7 @@ impl Alarms {
         rec: &ToothRecord,
         raised: Option<(Cause, f32, f32)>,
         wear_event: Option<(f32, f32)>,
-        resolved: Option<AlarmEvent>,
-        first_tooth: Option<(f32, f32, f32)>,
     ) -> AlarmOutput {
-        // A first-tooth decision resolved by this record is its event (and the first).
-        if let Some(e) = resolved {
-            return AlarmOutput {
-                event: Some(e),
-                latched: true,
-                wear: st.theta,
-                wear_warning: st.wear_warned,
-            };
-        }
-        // A first-tooth decision: the output latches now, the event follows.
-        if let (true, None, Some((value, threshold, next_before))) =
-            (st.latched.is_none(), raised, first_tooth)
-        {
-            let e = AlarmEvent {
-                cause: Cause::Breakage,
-                value,
-                threshold,
-                record: *rec,
-            };
-            st.pending = Some((e, next_before));
-            return AlarmOutput {
-                event: wear_event.map(|(value, threshold)| AlarmEvent {
-                    cause: Cause::Wear,
-                    value,
-                    threshold,
-                    record: *rec,
-                }),
-                latched: true,
-                wear: st.theta,
-                wear_warning: st.wear_warned,
-            };
-        }
         let event = match (st.latched.is_none(), raised, wear_event) {
             (true, Some((cause, value, threshold)), _) => {
                 let e = AlarmEvent {
@@ -1150,22 +1099,6 @@ impl Alarms {
         ok.then(|| (st.force(0) - st.force(1)) - (st.force(n) - st.force(n + 1)))
     }
 
-    /// Names the cause of a pending first-tooth drop from the record after it, and latches
-    /// it (module docs).
-    #[cold]
-    #[inline(never)]
-    fn resolve_pending(&self, st: &mut AlarmState, rec: &ToothRecord) -> Option<AlarmEvent> {
-        let (mut e, before) = st.pending.take()?;
-        let f = self.signal(rec.fx_n, rec.f2_n);
-        #[allow(clippy::neg_cmp_op_on_partial_ord)]
-        let gone = rec.status.contains(Status::NOT_CUTTING) || !(f >= GONE_SHARE * before);
-        if gone && self.cfg.tool_gone.enabled {
-            e.cause = Cause::ToolGone;
-        }
-        st.latched = Some(e);
-        Some(e)
-    }
-
     /// The first-tooth rules (module docs) for the newest tooth, whose change from one
     /// revolution earlier `r0` is beyond `FIRST_TOOTH_SHARE` of what it was (`before`);
     /// the caller has the last `2 N` teeth armed. Out of the common path: most teeth never
@@ -1178,7 +1111,7 @@ impl Alarms {
         before: f32,
         prev_steady: bool,
         settled: bool,
-    ) -> Option<FirstTooth> {
+    ) -> Option<(f32, f32)> {
         let n = self.n;
         let sigma_r = libm::sqrtf(0.5 * st.e_var);
         let t = crate::fmath::max(FIRST_TOOTH_SHARE * before, FIRST_TOOTH_SIGMAS * sigma_r);
@@ -1195,34 +1128,31 @@ impl Alarms {
         } else {
             (1u64 << bits) - 1
         };
+        let noise_known = st.e_count as f32 >= 1.0 / E_ALPHA;
         if prev_steady
             && st.armed & mask == mask
-            && st.e_count as f32 >= 1.0 / E_ALPHA
+            && noise_known
             && st.tooth(0) == st.tooth(n)
-            && libm::fabsf(r0) > t
+            && r0 > t
             && self.quiet(st, quiet_teeth, quiet_bound)
         {
-            // A rise: the flute before broke after its engagement and this one took its
-            // chip; nothing else raises one tooth alone. A drop: a broken flute's period,
-            // or a lost tool's; the next tooth tells.
-            return Some(if r0 > 0.0 {
-                FirstTooth::Rise(r0, t)
-            } else {
-                FirstTooth::Drop(-r0, t, st.force(n - 1))
-            });
+            // The flute before broke after its engagement and this one took its chip.
+            // A drop alone is not decided: the first tooth of an exit through a face
+            // loses as much (the thickest chip, at the arc's far reach, leaves first).
+            return Some((r0, t));
         }
+        let r1 = st.force(1) - st.force(n + 1);
         // The hand-over: the tooth after a drop takes the lost chip (its force up by as much
         // as a first-tooth drop), the teeth before the drop unchanged. The drop itself may
         // have been partial (the flute broke inside its period); an engagement step moves
         // both teeth the same way.
-        let r1 = st.force(1) - st.force(n + 1);
         let handed = settled
             && n >= 2
             && r0 > t
             && st.tooth(1) == st.tooth(n + 1)
             && r1 < -quiet_bound
             && self.quiet_from(st, 2, quiet_bound);
-        handed.then_some(FirstTooth::Rise(r0, t))
+        handed.then_some((r0, t))
     }
 
     /// `|sum of R_k| / N` over the `N - 1` teeth before the newest, `R_k = F_k - F_{k+N}`
@@ -1472,18 +1402,18 @@ mod tests {
     }
 
     /// A flute lost between its engagements: its next period loses its whole force (tooth
-    /// 1: -100 N), the tooth after takes the chip (+100 N). Decided on the first tooth (the
-    /// output latches there), named on the second; a lost tool (every tooth to nothing)
-    /// latches as early and is named tool gone. Steady runout and noise never latch.
+    /// 1: -100 N), the tooth after takes the chip (+100 N): decided on the gain, the drop
+    /// alone is not (the first tooth of an exit through a face drops as much). Steady
+    /// runout and noise, and an exit's fall, never latch.
     #[test]
-    fn a_whole_period_lost_latches_on_its_first_tooth() {
+    fn a_lost_flute_is_decided_on_the_tooth_that_takes_its_chip() {
         let steady = forces(3.0, 40, &[0.0; 16]);
         assert_eq!(first_latch(&steady, usize::MAX), (None, None));
         let broken = [0.0, -100.0, 100.0, 0.0];
         let f = forces(3.0, 40, &[broken, broken].concat());
         assert_eq!(
             first_latch(&f, usize::MAX),
-            (Some(161), Some((162, 161, Cause::Breakage)))
+            (Some(162), Some((162, 162, Cause::Breakage)))
         );
         // The hand-over first (the flute broke after its engagement in the period before
         // the sync pulse's): a tooth that gains a flute's chip alone is decided at once.
@@ -1501,20 +1431,16 @@ mod tests {
             first_latch(&f, usize::MAX),
             (Some(162), Some((162, 162, Cause::Breakage)))
         );
-        // The tool lost a third into tooth 1's period: 30 N left of its 100, then nothing.
-        let mut f = forces(3.0, 40, &[0.0; 8]);
-        f[161] = 30.0;
-        for x in f.iter_mut().skip(162) {
-            *x = 0.0;
+        // An exit through a face square to the feed: the arc's far reach (the thickest
+        // chip) leaves first, the force falls as the square root of the travel: a third
+        // of it on the first tooth, every tooth after lower still.
+        let mut f = forces(3.0, 40, &[0.0; 12]);
+        for (j, x) in f.iter_mut().skip(161).enumerate() {
+            *x *= 1.0 - 0.8 * libm::sqrtf(((j + 1) as f32 / 5.0).min(1.0));
         }
-        assert_eq!(
-            first_latch(&f, 162),
-            (Some(161), Some((162, 161, Cause::ToolGone)))
-        );
+        assert_eq!(first_latch(&f, usize::MAX), (None, None));
     }
 
-    /// A ramp (entry, exit) moves every tooth over several: no tooth changes alone, and the
-    /// first-tooth rules stay out of it even when the ramp is steep.
     #[test]
     fn a_steep_ramp_is_not_a_first_tooth() {
         // Down by 12 % of the level a revolution, tooth by tooth (an exit in 8 revolutions).

@@ -165,7 +165,7 @@ enum Command {
         after_help = "Each case: random tool (2-4 flutes, R 4-8 mm), speed 1200-4000 \
                       rpm, feed 0.04-0.2 mm/tooth, R_r 0.2-1.6, R_a 0.3-1.5, down or up \
                       milling, runout up to 35 % of the chip on one flute, 3 % noise on the \
-                      tooth averages, current-loop lag, entry and exit ramps, feed and speed \
+                      tooth averages, current-loop lag, entry and exit through faces of the work, feed and speed \
                       changes. Sets: normal (no damage), break, chip (30-70 % of the edge), \
                       gone (whole tool), overload, taught (teach-in on, the taught job \
                       again), teach (the job on 40 % deeper stock), wear (forces rising by \
@@ -183,7 +183,8 @@ enum Command {
         threads: usize,
         /// Exit with an error on a false alarm in any set, a missed overload or teach-in
         /// excursion, fewer than 90 % of wear warnings, fewer than 90 % of full breakages
-        /// caught or fewer than 75 % within one revolution (CI's regression floor).
+        /// caught or fewer than 75 % within one revolution of the broken flute's first
+        /// missed cut (CI's regression floor).
         #[arg(long)]
         check: bool,
         /// Also list every case's outcome (stderr).
@@ -323,7 +324,7 @@ fn evaluate_cmd(set: SetArg, seed: u64, threads: usize, check: bool, verbose: bo
         evaluate::check_goals(&fig)?;
         eprintln!(
             "check passed: no false alarm, every overload and teach-in excursion, >= 90 % of \
-             wear warnings, >= 90 % of breakages caught and >= 75 % within one revolution"
+             wear warnings, >= 90 % of breakages caught and >= 75 % within one revolution of the first missed cut"
         );
     }
     Ok(())
