@@ -587,14 +587,13 @@ pub fn run_case(case: &Case) -> Result<Outcome> {
         }
         Ok(())
     })?;
-    let flutes = f64::from(case.scenario.tool.flutes);
     Ok(Outcome {
         kind: case.kind,
         cutting_s: cutting_samples as f64 / fs,
         first_alarm,
         damage_s: case.damage_s,
         onset_s,
-        tooth_s: 60.0 / (case.rpm_at_damage * flutes),
+        tooth_s,
         rev_s: 60.0 / case.rpm_at_damage,
     })
 }
