@@ -48,7 +48,8 @@
 //!   quarter of the previous length, is used and keeps the history; any other invalid
 //!   period (a lost pulse) forgets it.
 //! - Tool gone: the force falls from a steady cut near its recent peak to the not-cutting
-//!   floor within a few teeth while the feed goes on. An exit from the part lowers the
+//!   floor within a few teeth while the feed goes on: two teeth in a row below the floor
+//!   (or the monitor's not-cutting flag, on the revolution mean). An exit from the part lowers the
 //!   force over revolutions first; a lost tool does not ("steady" excludes a revolution
 //!   mean already falling by more than 10 % a revolution).
 //! - Overload: the revolution-mean force above what the configured maximum engagement
@@ -426,6 +427,9 @@ pub struct AlarmState {
     latched: Option<AlarmEvent>,
     /// The previous record carried no transient flag (the cut was steady before it).
     prev_steady: bool,
+    /// The previous record's data was good and its watched force below the not-cutting
+    /// floor (tool gone: two such teeth in a row).
+    prev_dead: bool,
 }
 
 impl Default for AlarmState {
@@ -456,6 +460,7 @@ impl Default for AlarmState {
             wear_warned: false,
             latched: None,
             prev_steady: false,
+            prev_dead: false,
         }
     }
 }
@@ -661,6 +666,15 @@ impl Alarms {
         let armed = !rec.status.intersects(bad_data);
         let f = self.signal(rec.fx_n, rec.f2_n);
         let f = if f.is_finite() { f } else { 0.0 };
+        // Two teeth in a row with good data and nothing above the not-cutting floor: the
+        // monitor's own flag waits for a whole revolution of them (its test is on the
+        // revolution mean, so that a lost flute's empty period does not count).
+        let dead = libm::fabsf(f) < self.est.force_floor_n
+            && !rec
+                .status
+                .intersects(Status(bad_data.0 & !Status::NOT_CUTTING.0));
+        let two_dead = dead && st.prev_dead;
+        st.prev_dead = dead;
         // A lost or swallowed tooth breaks the tooth alignment the detector relies on.
         if (rec.status.contains(Status::PERIOD_INVALID) && !jittered)
             || rec.status.contains(Status::NO_SYNC)
@@ -673,7 +687,7 @@ impl Alarms {
         if rec.status.is_valid() {
             st.held = Some((rec.rr, rec.ra));
         }
-        if rec.status.contains(Status::NOT_CUTTING) && !self.gone_candidate(st, rec) {
+        if rec.status.contains(Status::NOT_CUTTING) && !self.gone_candidate(st, rec, two_dead) {
             st.held = None;
         }
         let head = st.head & (HISTORY - 1);
@@ -868,7 +882,7 @@ impl Alarms {
             }
             _ => st.since_steady = st.since_steady.saturating_add(1),
         }
-        if self.cfg.tool_gone.enabled && self.gone_candidate(st, rec) {
+        if self.cfg.tool_gone.enabled && self.gone_candidate(st, rec, two_dead) {
             raise(Cause::ToolGone, f, self.est.force_floor_n);
             st.held = None;
         }
@@ -1207,8 +1221,8 @@ impl Alarms {
     }
 
     /// Whether `rec` is a force collapse right after a steady cut while feeding.
-    fn gone_candidate(&self, st: &AlarmState, rec: &ToothRecord) -> bool {
-        rec.status.contains(Status::NOT_CUTTING)
+    fn gone_candidate(&self, st: &AlarmState, rec: &ToothRecord, two_dead: bool) -> bool {
+        (rec.status.contains(Status::NOT_CUTTING) || two_dead)
             && rec.tc_mm > 0.0
             && st.since_steady <= self.cfg.tool_gone.max_drop_revs as u32 * self.n as u32
             && st.steady_force_n > 3.0 * self.est.force_floor_n

@@ -48,7 +48,7 @@ pub const DEMO_HELP: &str = "\
 WHAT IT DOES: simulates the cut of host-sim/examples/cut.toml (compiled in: the paper's 16 mm
 four-flute end mill in steel at 600 rpm; entry through the work's face, a radial-depth ramp
 4 -> 8 mm, an axial step 4 -> 6 mm met over a tool radius of travel, a feed change
-0.15 -> 0.225 mm/tooth, flute 2 breaking at 11.5 s, the exit), with motor-current noise,
+0.15 -> 0.225 mm/tooth, flute 2 breaking at 11.49 s, the exit), with motor-current noise,
 current-loop lag, 12-bit ADCs and encoder jitter; replays the trace through the same
 Pipeline the firmware runs (monitor + alarms), configured for the simulated board; and
 prints, per segment of the scenario, the true and the estimated radial and axial depths of

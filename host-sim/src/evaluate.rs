@@ -8,9 +8,11 @@
 //! replayed sample by sample through `estimator_core::Pipeline` (the firmware's code) with
 //! the board model the scenario was simulated with. Five sets:
 //! - normal: no damage; every alarm is a false alarm;
-//! - break: one flute breaks at a random time in a steady stretch;
-//! - chip: one flute loses 30-70 % of its cutting edge (from the tip);
-//! - gone: every flute breaks at once (the tool is lost);
+//! - break: one flute breaks in a steady stretch, in its cut (out of the cut it carries no
+//!   load): at a random time, moved on to when the flute's tip is at an angle of the
+//!   engaged arc drawn with density in proportion to the tip's chip thickness;
+//! - chip: one flute loses 30-70 % of its cutting edge (from the tip), the same way;
+//! - gone: every flute breaks at once (the tool is lost), the same way;
 //! - overload: the configured maximum engagement is 80 % of the cut's in both directions;
 //! - taught: teach-in on, the envelope recorded from the same job (another noise seed) and
 //!   the job run again unchanged: every alarm is a false alarm;
@@ -23,10 +25,12 @@
 //!
 //! An alarm before the damage (or of another cause than the one expected) is false.
 //! Latency is from the damage's first effect on the forces to the end of the tooth period
-//! that raised the alarm: a flute that breaks out of the cut changes nothing until it
-//! comes round to cut again (the onset: the true forces, integrated from the damage, have
-//! differed from the undamaged run's by a tenth of a tooth period's force). "Within one
-//! revolution" is counted both from that onset and from the damage itself.
+//! that raised the alarm (the onset: the true forces, integrated from the damage, have
+//! differed from the undamaged run's by a tenth of a tooth period's force; with damage in
+//! the cut, within a few samples of it). "Within one revolution" is counted both from
+//! that onset and from the damage itself. A flute that breaks late in its cut loses
+//! little of that cut (its chip is thin there) and the next flute takes only that: the
+//! first revolution may hold little to see before the broken flute comes round.
 //! False alarms are counted per hour of cutting (time the truth has the tool in the work).
 
 use anyhow::{anyhow, bail, Result};
@@ -161,6 +165,10 @@ pub struct Outcome {
     pub tooth_s: f64,
     /// Revolution at the damage [s].
     pub rev_s: f64,
+    /// How much the damage changed the forces in its first revolution: the true forces'
+    /// departure from the undamaged run's, integrated over the revolution after the
+    /// damage, in tooth periods of the steady cut's force. Sudden kinds only.
+    pub first_rev_teeth: Option<f64>,
 }
 
 impl Outcome {
@@ -387,32 +395,9 @@ pub fn draw_case(kind: Kind, index: usize, seed: u64) -> Result<Case> {
             (Some(t), rpm_at)
         }
     };
-    let mut events = String::new();
     let flute = (d.unit() * f64::from(flutes)) as u8 % flutes;
-    match (kind, damage_s) {
-        (Kind::Break, Some(t)) => {
-            let _ = write!(
-                events,
-                "\n[[event]]\ntime_s = {t}\nflute = {flute}\nkind = \"break\"\n"
-            );
-        }
-        (Kind::Chip, Some(t)) => {
-            let f = d.range(0.3, 0.7);
-            let _ = write!(
-                events,
-                "\n[[event]]\ntime_s = {t}\nflute = {flute}\nkind = \"chip\"\nfraction = {f}\n"
-            );
-        }
-        (Kind::Gone, Some(t)) => {
-            for j in 0..flutes {
-                let _ = write!(
-                    events,
-                    "\n[[event]]\ntime_s = {t}\nflute = {j}\nkind = \"break\"\n"
-                );
-            }
-        }
-        _ => {}
-    }
+    let in_arc = d.unit();
+    let chip_share = d.range(0.3, 0.7);
     let mode_name = match mode {
         MillingMode::Down => "down",
         MillingMode::Up => "up",
@@ -448,7 +433,7 @@ pub fn draw_case(kind: Kind, index: usize, seed: u64) -> Result<Case> {
             "sample_rate_hz = {FS_HZ}\nseed = {seed}\nmode = \"{mode_name}\"\n\
              [tool]\nradius_mm = {radius}\nflutes = {flutes}\nhelix_deg = 30.0\nrunout_mm = [{runout_list}]\n\
              {BOARD}\n[signal]\nfeed_lag_s = 0.0005\nspindle_lag_s = 0.0005\nfeed_noise = {feed_noise}\n\
-             spindle_noise = {spindle_noise}\nsync_jitter_samples = 1\n{segs}{events}"
+             spindle_noise = {spindle_noise}\nsync_jitter_samples = 1\n{segs}"
         )
     };
     let name = format!("{} case {index}", kind.name());
@@ -462,7 +447,51 @@ pub fn draw_case(kind: Kind, index: usize, seed: u64) -> Result<Case> {
         Kind::Wear => timeline(&|a, b| format!("[{}, {}]", worn(a), worn(b))),
         _ => timeline(&constant),
     };
-    let text = scenario_text(&segs, seed_case);
+    // A flute breaks (or chips) under load: out of the cut it carries none, and in the cut
+    // the likelier the more it carries. The damage drawn in a stretch happens at the next
+    // moment the flute's tip is at an angle of the engaged arc `[a, b]` drawn with density
+    // in proportion to the tip's chip, `t_c sin(phi)`: `cos(phi)` uniform between
+    // `cos(a)` and `cos(b)`.
+    let damage_s = match (kind.sudden(), damage_s) {
+        (true, Some(t)) => {
+            let clean = Scenario::from_toml(&scenario_text(&segs, seed_case), &name)?;
+            let arc = (1.0 - rr).clamp(-1.0, 1.0).acos();
+            let (a, b) = match mode {
+                MillingMode::Down => (std::f64::consts::PI - arc, std::f64::consts::PI),
+                MillingMode::Up => (0.0, arc),
+            };
+            let phi = (a.cos() + in_arc * (b.cos() - a.cos()))
+                .clamp(-1.0, 1.0)
+                .acos();
+            Some(sim::time_at_angle(&clean, t, flute, phi)?.unwrap_or(t))
+        }
+        _ => damage_s,
+    };
+    let mut events = String::new();
+    match (kind, damage_s) {
+        (Kind::Break, Some(t)) => {
+            let _ = write!(
+                events,
+                "\n[[event]]\ntime_s = {t}\nflute = {flute}\nkind = \"break\"\n"
+            );
+        }
+        (Kind::Chip, Some(t)) => {
+            let _ = write!(
+                events,
+                "\n[[event]]\ntime_s = {t}\nflute = {flute}\nkind = \"chip\"\nfraction = {chip_share}\n"
+            );
+        }
+        (Kind::Gone, Some(t)) => {
+            for j in 0..flutes {
+                let _ = write!(
+                    events,
+                    "\n[[event]]\ntime_s = {t}\nflute = {j}\nkind = \"break\"\n"
+                );
+            }
+        }
+        _ => {}
+    }
+    let text = format!("{}{events}", scenario_text(&segs, seed_case));
     let scenario = Scenario::from_toml(&text, &name)?;
     // Teach-in: the good job, recorded with other noise (a different seed).
     let taught = match kind {
@@ -561,12 +590,17 @@ pub fn run_case(case: &Case) -> Result<Outcome> {
     let mut onset_s = None;
     let mut sample = 0usize;
     let mut deficit = 0.0f64;
+    let mut first_rev = 0.0f64;
     let tooth_s = 60.0 / (case.rpm_at_damage * f64::from(case.scenario.tool.flutes));
+    let rev_s = 60.0 / case.rpm_at_damage;
     sim::simulate(&case.scenario, |row| {
-        if let (None, Some(d), Some(c)) = (onset_s, case.damage_s, clean_forces.get(sample)) {
-            let moved = (row.truth.fx_n - c[0]).abs() + (row.truth.ft_n - c[1]).abs();
-            if row.time_s >= d {
-                deficit += f64::from(moved) / fs;
+        if let (Some(d), Some(c)) = (case.damage_s, clean_forces.get(sample)) {
+            let moved = f64::from((row.truth.fx_n - c[0]).abs() + (row.truth.ft_n - c[1]).abs());
+            if row.time_s >= d && row.time_s < d + rev_s {
+                first_rev += moved / fs;
+            }
+            if onset_s.is_none() && row.time_s >= d {
+                deficit += moved / fs;
                 if deficit > ONSET_SHARE * case.ft_n * tooth_s {
                     onset_s = Some(row.time_s);
                 }
@@ -594,7 +628,8 @@ pub fn run_case(case: &Case) -> Result<Outcome> {
         damage_s: case.damage_s,
         onset_s,
         tooth_s,
-        rev_s: 60.0 / case.rpm_at_damage,
+        rev_s,
+        first_rev_teeth: (!clean_forces.is_empty()).then(|| first_rev / (case.ft_n * tooth_s)),
     })
 }
 

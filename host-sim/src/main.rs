@@ -167,7 +167,7 @@ enum Command {
                       milling, runout up to 35 % of the chip on one flute, 3 % noise on the \
                       tooth averages, current-loop lag, entry and exit through faces of the work, feed and speed \
                       changes. Sets: normal (no damage), break, chip (30-70 % of the edge), \
-                      gone (whole tool), overload, taught (teach-in on, the taught job \
+                      gone (whole tool) (damage in the flute's cut, where it is loaded), overload, taught (teach-in on, the taught job \
                       again), teach (the job on 40 % deeper stock), wear (forces rising by \
                       half against a known engagement). See host_sim::evaluate."
     )]

@@ -52,13 +52,13 @@ fn builtin_scenario_is_the_committed_example() {
     assert!(sc
         .events
         .iter()
-        .any(|e| e.kind == EventKind::Break && e.flute == 2 && e.time_s == 11.5));
+        .any(|e| e.kind == EventKind::Break && e.flute == 2 && e.time_s == 11.49));
     let help = host_sim::demo::DEMO_HELP;
     for want in [
         "600 rpm",
         "4 -> 8 mm",
         "4 -> 6 mm",
-        "flute 2 breaking at 11.5 s",
+        "flute 2 breaking at 11.49 s",
     ] {
         assert!(help.contains(want), "`{want}` not in the help");
     }

@@ -494,6 +494,64 @@ da_mm = 8.0
     }
 
     #[test]
+    fn a_flute_broken_in_its_cut_leaves_the_next_one_only_what_it_had_not_cut() {
+        // Flute 2 breaks with its tip at 140 deg, in the middle of the down-milling arc
+        // 120..180 deg. What it had cut is gone; the rest of its chip goes to flute 3, a
+        // pitch later. No material is cut twice: with the (linear) nominal-t_a law the force
+        // the cut loses and the force flute 3 gains integrate to the same impulse. (Flute 3
+        // taking `2 t_c` from the break on would cut 120..140 deg a second time: half a
+        // tooth's impulse too much.)
+        let clean = one_flute_per_period();
+        let tip = 140f64.to_radians();
+        let t_b = host_sim::sim::time_at_angle(&clean, 0.5, 2, tip)
+            .unwrap()
+            .expect("in the run");
+        assert!((0.5..0.6).contains(&t_b), "{t_b}");
+        let mut sc = clean.clone();
+        sc.events.push(Event {
+            time_s: t_b,
+            flute: 2,
+            kind: EventKind::Break,
+            fraction: None,
+            length_mm: None,
+        });
+        let (a, _) = run(&clean);
+        let (b, _) = run(&sc);
+        let dt = 1.0 / sc.sample_rate_hz;
+        let tooth_s = 60.0 / (600.0 * 4.0);
+        let unit = eq7(&sc, 0.5, 0.5, 0.1).0 * tooth_s;
+        let impulse = |from: f64, to: f64| -> f64 {
+            a.iter()
+                .zip(&b)
+                .filter(|(r, _)| r.time_s >= from && r.time_s < to)
+                .map(|(r, s)| f64::from(s.truth.ft_n - r.truth.ft_n) * dt)
+                .sum()
+        };
+        // The rest of flute 2's cut, from 140 deg to the arc's end (and its trailing
+        // helix), is lost at once, and nothing is gained before flute 3 reaches 140 deg a
+        // pitch later.
+        let lost = -impulse(t_b, t_b + tooth_s) / unit;
+        assert!(lost > 0.2 && lost < 0.8, "lost {lost} of a tooth");
+        let early = impulse(t_b + 0.75 * tooth_s, t_b + tooth_s) / unit;
+        assert!(early.abs() < 1e-3, "{early}");
+        // Flute 3 then takes exactly that, and no more until flute 2 comes round: no
+        // material is cut twice.
+        let gained = impulse(t_b + tooth_s, t_b + 2.0 * tooth_s) / unit;
+        assert!(
+            (gained - lost).abs() < 0.01 * lost,
+            "gained {gained}, lost {lost}"
+        );
+        let rest = impulse(t_b + 2.0 * tooth_s, t_b + 3.0 * tooth_s) / unit;
+        assert!(rest.abs() < 1e-3, "{rest}");
+        // From then on every revolution loses flute 2's chip and gains it on flute 3.
+        let rev = impulse(t_b + 4.0 * tooth_s, t_b + 8.0 * tooth_s) / unit;
+        assert!(rev.abs() < 0.01, "net {rev} of a tooth a revolution");
+        // And after it, flute 2 cuts nothing, flute 3 twice the chip.
+        let all = 0b1111u32;
+        assert_eq!(b.last().unwrap().truth.flutes_intact, all & !(1 << 2));
+    }
+
+    #[test]
     fn a_chipped_flute_loses_its_tip_to_the_next_one() {
         // Half the axial depth lost on flute 1, then 1 mm of flute 3's tip: the following
         // flute takes the lost part's chip at that height on top of its own.

@@ -12,13 +12,17 @@
 //! flute at that height:
 //!
 //! ```text
-//! t_cj(z) = max(0, min over earlier flutes i present at z of (d_ij t_c + r_j - r_i))
+//! t_cj(z) = max(0, min over earlier flutes i that had an edge at z when they passed
+//!                   of (d_ij t_c + r_j - r_i))
 //! ```
 //!
 //! `d_ij` the pitches from flute `i` to `j` (1 for the flute just before, `N` for `j`
-//! itself one revolution earlier) and `r` the radial runout offsets. With every flute
-//! whole this is `t_c + r_j - r_(j-1)`; a broken flute is absent at every height, so the
-//! next flute takes `2 t_c`; a flute chipped over `[0, L)` is absent there only.
+//! itself one revolution earlier) and `r` the radial runout offsets. Flute `i` passed the
+//! point flute `j` is cutting `d_ij` pitches of rotation earlier, so it counts as it was
+//! then. With every flute whole this is `t_c + r_j - r_(j-1)`; a broken flute is absent at
+//! every height, so the next flute takes `2 t_c`, but only from the angles the broken one
+//! had not reached when it broke (a flute breaks under load, in its cut: what it had cut
+//! is not cut again); a flute chipped over `[0, L)` is absent there only.
 //! Note: runout enters as a change of the flute's chip load (`h = t_cj sin(phi)`), the
 //! usual simplification; the exact offset adds `r_j - r_i` radially. Both give the same
 //! revolution sum as long as no chip vanishes, and this one keeps `h = 0` at the ends of
@@ -159,19 +163,25 @@ impl Cutter {
         }
     }
 
-    /// Chip loads [mm/tooth] of every flute at a height where the flutes in `present`
-    /// (bit `j` for flute `j`) have an edge; 0 for the others.
-    pub fn chip_loads(&self, tc_mm: f64, present: u32) -> [f64; MAX_FLUTES] {
+    /// Chip loads [mm/tooth] of every flute at one height. `present[d]` (bit `i` for flute
+    /// `i`): the flutes that had an edge there `d` pitches ago (`d = 0`: now; one entry
+    /// per `d` in `0..=N`, a missing entry counts as `present[0]`). Flute `j` cuts what the
+    /// last flute to pass the same point of the work left: flute `j - d` passed it `d`
+    /// pitches ago, so it is that flute's edge *then* that counts (a flute broken in the
+    /// middle of its pass has cut the angles before the break; the next flute takes its
+    /// chip only past them). 0 for flutes without an edge now.
+    pub fn chip_loads(&self, tc_mm: f64, present: &[u32]) -> [f64; MAX_FLUTES] {
         let n = self.n;
+        let now = present.first().copied().unwrap_or(0);
         let mut out = [0.0; MAX_FLUTES];
         for (j, o) in out.iter_mut().enumerate().take(n) {
-            if present & (1 << j) == 0 {
+            if now & (1 << j) == 0 {
                 continue;
             }
             let mut best = f64::INFINITY;
             for d in 1..=n {
                 let i = (j + n - d) % n;
-                if present & (1 << i) != 0 {
+                if present.get(d).copied().unwrap_or(now) & (1 << i) != 0 {
                     best = best.min(d as f64 * tc_mm + self.runout[j] - self.runout[i]);
                 }
             }
@@ -180,10 +190,16 @@ impl Cutter {
         out
     }
 
-    /// Total forces at one instant. `missing_mm[j]`: flute `j` has no edge below this
-    /// height (0 whole, infinite broken). `spans`: stretches of work along the path, or
-    /// `None` for material everywhere.
-    pub fn forces(&mut self, cut: &Cut, missing_mm: &[f64], spans: Option<&[[f64; 2]]>) -> Forces {
+    /// Total forces at one instant. `missing_mm[d][j]`: flute `j` had no edge below this
+    /// height `d` pitches of rotation ago (0 whole, infinite broken; `d = 0`: now, one row
+    /// per `d` in `0..=N`, see [`Self::chip_loads`]). `spans`: stretches of work along the
+    /// path, or `None` for material everywhere.
+    pub fn forces(
+        &mut self,
+        cut: &Cut,
+        missing_mm: &[[f64; MAX_FLUTES]],
+        spans: Option<&[[f64; 2]]>,
+    ) -> Forces {
         let mut total = Forces::default();
         if !(cut.rr > 0.0 && cut.da_mm > 0.0 && cut.tc_mm > 0.0) {
             return total;
@@ -217,15 +233,18 @@ impl Cutter {
             }
             Law::Instantaneous(_) => None,
         };
-        // Height bands between the flutes' missing lengths: the set of flutes with an
-        // edge, and so every chip load, is constant inside a band.
+        // Height bands between the flutes' missing lengths (now and at every lag): the
+        // sets of flutes with an edge, and so every chip load, are constant inside a band.
         let n = self.n;
-        let mut cuts = [0.0f64; MAX_FLUTES + 1];
+        let rows = missing_mm.len().min(n + 1);
+        let mut cuts = [0.0f64; (MAX_FLUTES + 1) * MAX_FLUTES + 1];
         let mut nb = 0;
-        for &m in missing_mm.iter().take(n) {
-            if m > 0.0 && m < cut.da_mm {
-                cuts[nb] = m;
-                nb += 1;
+        for row in &missing_mm[..rows] {
+            for &m in row.iter().take(n) {
+                if m > 0.0 && m < cut.da_mm {
+                    cuts[nb] = m;
+                    nb += 1;
+                }
             }
         }
         cuts[..nb].sort_by(f64::total_cmp);
@@ -236,13 +255,15 @@ impl Cutter {
             if z1 <= z0 {
                 continue;
             }
-            let mut present = 0u32;
-            for (j, &m) in missing_mm.iter().enumerate().take(n) {
-                if m <= z0 {
-                    present |= 1 << j;
+            let mut present = [0u32; MAX_FLUTES + 1];
+            for (p, row) in present.iter_mut().zip(&missing_mm[..rows]) {
+                for (j, &m) in row.iter().enumerate().take(n) {
+                    if m <= z0 {
+                        *p |= 1 << j;
+                    }
                 }
             }
-            let chips = self.chip_loads(cut.tc_mm, present);
+            let chips = self.chip_loads(cut.tc_mm, &present[..rows]);
             for (j, &tc) in chips.iter().enumerate().take(n) {
                 if tc > 0.0 {
                     let tip = theta - j as f64 * self.pitch;
@@ -414,15 +435,23 @@ mod tests {
             0.05,
         );
         let all = 0b1111;
-        let t = c.chip_loads(0.1, all);
+        let t = c.chip_loads(0.1, &[all]);
         // Flute 0 sticks out 0.02: it cuts 0.02 more, flute 1 (after it) 0.02 less.
         for (j, want) in [0.12, 0.08, 0.1, 0.1].iter().enumerate() {
             assert!((t[j] - want).abs() < 1e-12, "{j}: {}", t[j]);
         }
         // Flute 2 gone: flute 3 cuts what flute 1 left, two pitches of feed.
-        let t = c.chip_loads(0.1, all & !(1 << 2));
+        let t = c.chip_loads(0.1, &[all & !(1 << 2)]);
         assert_eq!(t[2], 0.0);
         assert!((t[3] - 0.2).abs() < 1e-12);
+        // ... but only where flute 2 was already gone when it would have passed, a pitch
+        // before flute 3: where it cut before it broke, flute 3 takes the usual chip.
+        let gone = all & !(1 << 2);
+        let t = c.chip_loads(0.1, &[gone, all, all, all, all]);
+        assert_eq!(t[2], 0.0);
+        assert!((t[3] - 0.1).abs() < 1e-12, "{}", t[3]);
+        let t = c.chip_loads(0.1, &[gone, gone, all, all, all]);
+        assert!((t[3] - 0.2).abs() < 1e-12, "{}", t[3]);
         // Large runout: flute 0 sticks out 3.5 feeds; it cuts the whole revolution's
         // material (N t_c) and the others cut nothing.
         let c = Cutter::new(
@@ -431,7 +460,7 @@ mod tests {
             CoefficientsAt::NominalTa,
             0.05,
         );
-        let t = c.chip_loads(0.1, all);
+        let t = c.chip_loads(0.1, &[all]);
         assert!((t[0] - 0.4).abs() < 1e-12, "{}", t[0]);
         assert_eq!(&t[1..4], &[0.0; 3]);
     }

@@ -45,6 +45,7 @@ use crate::trace::{TraceKind, TraceRow, TraceWriter, Truth};
 use anyhow::Result;
 use chain::{Board, BoardInput};
 use cutter::{Cut, Cutter};
+use scenario::Resolved;
 use std::f64::consts::TAU;
 use std::io::Write;
 
@@ -105,7 +106,12 @@ pub fn simulate(sc: &Scenario, mut out: impl FnMut(&TraceRow) -> Result<()>) -> 
     events.sort_by(|a, b| a.time_s.total_cmp(&b.time_s));
     let mut next_event = 0;
     let mut damage = [Damage::default(); MAX_FLUTES];
-    let mut missing = [0.0f64; MAX_FLUTES];
+    // The damage after each event, with the rotation it happened at: a flute's chip is
+    // what the flute before it left when it passed, a pitch of rotation earlier, so the
+    // cutter needs every flute's edge as it was up to a revolution ago.
+    let mut history: Vec<(f64, [Damage; MAX_FLUTES])> = vec![(f64::NEG_INFINITY, damage)];
+    let mut missing = [[0.0f64; MAX_FLUTES]; MAX_FLUTES + 1];
+    let pitch = TAU / n as f64;
 
     let sig = &sc.signal;
     let mut board = Board::new(&sc.input, sig, fs, r_mm, sc.seed);
@@ -117,24 +123,19 @@ pub fn simulate(sc: &Scenario, mut out: impl FnMut(&TraceRow) -> Result<()>) -> 
         clip_levels: clip_levels(sc),
         ..SimSummary::default()
     };
-    let (mut theta, mut path) = (0.0f64, 0.0f64);
-    let (mut rpm_prev, mut feed_prev) = (f64::NAN, f64::NAN);
-    let mut si = 0;
+    let mut motion = Motion::new(&segs, dt);
     for i in 0..rows {
-        let t = i as f64 * dt;
-        while si + 1 < segs.len() && t >= segs[si].t1 {
-            si += 1;
-        }
-        let g = &segs[si];
+        let Step {
+            t,
+            seg: g,
+            rpm,
+            feed,
+            dr,
+            da,
+            theta,
+            path,
+        } = motion.step(i);
         let len = g.t1 - g.t0;
-        let u = ((t - g.t0) / len).clamp(0.0, 1.0);
-        let lerp = |(a, b): (f64, f64)| a + (b - a) * u;
-        let (rpm, feed, dr, da) = (lerp(g.rpm), lerp(g.feed), lerp(g.dr), lerp(g.da));
-        if i > 0 {
-            theta += 0.5 * (rpm_prev + rpm) * TAU / 60.0 * dt;
-            path += 0.5 * (feed_prev + feed) / 60.0 * dt;
-        }
-        (rpm_prev, feed_prev) = (rpm, feed);
         let tc = feed / (n as f64 * rpm);
 
         while next_event < events.len() && events[next_event].time_s <= t {
@@ -148,16 +149,28 @@ pub fn simulate(sc: &Scenario, mut out: impl FnMut(&TraceRow) -> Result<()>) -> 
                 }
             }
             next_event += 1;
+            history.push((theta, damage));
         }
         let mut intact = 0u32;
-        for (j, (m, d)) in missing.iter_mut().zip(&damage).take(n).enumerate() {
-            *m = if d.broken {
-                f64::INFINITY
-            } else {
-                d.chip_mm.max(d.chip_fraction * da)
-            };
+        for (j, d) in damage.iter().take(n).enumerate() {
             if !d.broken && d.chip_mm == 0.0 && d.chip_fraction == 0.0 {
                 intact |= 1 << j;
+            }
+        }
+        // Row `k`: the damage as it was `k` pitches of rotation ago.
+        for (k, row) in missing.iter_mut().take(n + 1).enumerate() {
+            let then = theta - k as f64 * pitch;
+            let state = history
+                .iter()
+                .rev()
+                .find(|(at, _)| *at <= then)
+                .map_or(&damage, |(_, s)| s);
+            for (m, d) in row.iter_mut().zip(state).take(n) {
+                *m = if d.broken {
+                    f64::INFINITY
+                } else {
+                    d.chip_mm.max(d.chip_fraction * da)
+                };
             }
         }
 
@@ -169,7 +182,7 @@ pub fn simulate(sc: &Scenario, mut out: impl FnMut(&TraceRow) -> Result<()>) -> 
             tc_mm: tc,
             path_mm: path,
         };
-        let f = cutter.forces(&cut, &missing[..n], spans);
+        let f = cutter.forces(&cut, &missing[..=n], spans);
         summary.peak_ft_n = summary.peak_ft_n.max(f.ft.abs());
         summary.peak_fx_n = summary.peak_fx_n.max(f.fx.abs());
 
@@ -225,6 +238,105 @@ pub fn simulate(sc: &Scenario, mut out: impl FnMut(&TraceRow) -> Result<()>) -> 
     summary.sync_pulses = sync.emitted;
     summary.sync_dropped = sync.dropped;
     Ok(summary)
+}
+
+/// The tool's motion at one sample.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Step<'a> {
+    /// Time [s].
+    pub t: f64,
+    /// The segment it is in.
+    pub seg: &'a Resolved,
+    /// Spindle speed [rpm] and feed [mm/min], radial and axial depth [mm] there.
+    pub rpm: f64,
+    pub feed: f64,
+    pub dr: f64,
+    pub da: f64,
+    /// Rotation of flute 0's tip since the start [rad].
+    pub theta: f64,
+    /// Travel of the tool centre along the path since the start [mm].
+    pub path: f64,
+}
+
+/// The timeline sample by sample: speeds interpolated in their segment, rotation and
+/// travel integrated between samples by the trapezoid rule. The one place both are
+/// integrated: the forces and the evaluation's choice of a moment in the cut agree.
+pub(crate) struct Motion<'a> {
+    segs: &'a [Resolved],
+    dt: f64,
+    si: usize,
+    theta: f64,
+    path: f64,
+    prev: Option<(f64, f64)>,
+}
+
+impl<'a> Motion<'a> {
+    /// From the start of `segs` (not empty: `Scenario::resolve` of a validated scenario),
+    /// samples `dt` apart.
+    pub fn new(segs: &'a [Resolved], dt: f64) -> Self {
+        Motion {
+            segs,
+            dt,
+            si: 0,
+            theta: 0.0,
+            path: 0.0,
+            prev: None,
+        }
+    }
+
+    /// Sample `i` (called for `i = 0, 1, 2, ...` in turn).
+    pub fn step(&mut self, i: u64) -> Step<'a> {
+        let t = i as f64 * self.dt;
+        while self.si + 1 < self.segs.len() && t >= self.segs[self.si].t1 {
+            self.si += 1;
+        }
+        let g = &self.segs[self.si];
+        let len = g.t1 - g.t0;
+        let u = ((t - g.t0) / len).clamp(0.0, 1.0);
+        let lerp = |(a, b): (f64, f64)| a + (b - a) * u;
+        let (rpm, feed) = (lerp(g.rpm), lerp(g.feed));
+        if let Some((rpm_prev, feed_prev)) = self.prev {
+            self.theta += 0.5 * (rpm_prev + rpm) * TAU / 60.0 * self.dt;
+            self.path += 0.5 * (feed_prev + feed) / 60.0 * self.dt;
+        }
+        self.prev = Some((rpm, feed));
+        Step {
+            t,
+            seg: g,
+            rpm,
+            feed,
+            dr: lerp(g.dr),
+            da: lerp(g.da),
+            theta: self.theta,
+            path: self.path,
+        }
+    }
+}
+
+/// The first sample at or after `from_s` at which flute `flute`'s tip has turned to
+/// immersion angle `angle_rad` (flute 0's tip at 0 at the start; flute `j` trails it by
+/// `j` pitches), or `None` if the scenario ends first.
+pub fn time_at_angle(sc: &Scenario, from_s: f64, flute: u8, angle_rad: f64) -> Result<Option<f64>> {
+    sc.validate()?;
+    let segs = sc.resolve()?;
+    let pitch = TAU / f64::from(sc.tool.flutes);
+    let mut motion = Motion::new(&segs, 1.0 / sc.sample_rate_hz);
+    // Turns of the tip past the angle, counted continuously (no wrap to compare across).
+    let turns = |theta: f64| (theta - f64::from(flute) * pitch - angle_rad) / TAU;
+    let mut before: Option<f64> = None;
+    for i in 0..sc.samples() {
+        let s = motion.step(i);
+        let now = turns(s.theta);
+        if s.t >= from_s {
+            if let Some(b) = before {
+                if now.floor() > b.floor() {
+                    return Ok(Some(s.t));
+                }
+            }
+            before = Some(now);
+        }
+    }
+    Ok(None)
 }
 
 /// The columns a scenario's trace has: currents or forces by its `input`, the second feed

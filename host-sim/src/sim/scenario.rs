@@ -423,7 +423,8 @@ pub struct Segment {
 #[serde(rename_all = "snake_case")]
 pub enum EventKind {
     /// The flute breaks off: from then on it cuts nothing, and the next intact flute takes
-    /// its chip.
+    /// its chip (where it passes after the broken one would have: the part of the cut the
+    /// flute made before it broke is not cut again).
     Break,
     /// The flute's edge chips at the tool tip (the corner, where chipping starts): over
     /// `length_mm` from the tip, or the lower `fraction` of the current axial depth, it
