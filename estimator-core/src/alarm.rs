@@ -1348,6 +1348,21 @@ mod tests {
         out
     }
 
+    /// Record `i` of a 4-flute cut at 600 rpm, 250 samples a tooth, feed force `fx`.
+    fn record(i: usize, fx: f32, status: Status) -> ToothRecord {
+        ToothRecord {
+            end_sample: 250 * (i as u64 + 1),
+            tooth: (i % 4) as u8,
+            samples: 250,
+            rpm: 600.0,
+            tc_mm: 0.2,
+            fx_n: fx,
+            f2_n: 0.0,
+            status,
+            ..ToothRecord::default()
+        }
+    }
+
     /// Feeds the forces as records (tooth in order, not a valid estimate: the threshold is
     /// on the measured revolution mean); the index of the first breakage, if any.
     fn first_breakage(f: &[f32]) -> Option<usize> {
@@ -1355,17 +1370,7 @@ mod tests {
         let a = AlarmConfig::default().build(&est).unwrap();
         let mut st = AlarmState::default();
         for (i, &fx) in f.iter().enumerate() {
-            let rec = ToothRecord {
-                end_sample: 250 * (i as u64 + 1),
-                tooth: (i % 4) as u8,
-                samples: 250,
-                rpm: 600.0,
-                tc_mm: 0.2,
-                fx_n: fx,
-                f2_n: 0.0,
-                status: Status::TRANSIENT,
-                ..ToothRecord::default()
-            };
+            let rec = record(i, fx, Status::TRANSIENT);
             let out = a.process(&mut st, &rec);
             if out.event.is_some_and(|e| e.cause == Cause::Breakage) {
                 return Some(i);
@@ -1389,21 +1394,12 @@ mod tests {
         let (mut latch, mut event) = (None, None);
         for (i, &fx) in f.iter().enumerate() {
             let cutting = i < gone_from || fx > 5.0;
-            let rec = ToothRecord {
-                end_sample: 250 * (i as u64 + 1),
-                tooth: (i % 4) as u8,
-                samples: 250,
-                rpm: 600.0,
-                tc_mm: 0.2,
-                fx_n: fx,
-                f2_n: 0.0,
-                status: if cutting {
-                    Status::AMBIGUOUS
-                } else {
-                    Status::NOT_CUTTING
-                },
-                ..ToothRecord::default()
+            let status = if cutting {
+                Status::AMBIGUOUS
+            } else {
+                Status::NOT_CUTTING
             };
+            let rec = record(i, fx, status);
             let out = a.process(&mut st, &rec);
             if out.latched && latch.is_none() {
                 latch = Some(i);
