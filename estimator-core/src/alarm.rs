@@ -540,7 +540,8 @@ const BAD_DATA: Status = Status(
         | Status::NON_FINITE.0
         | Status::PERIOD_INVALID.0
         | Status::NO_SYNC.0
-        | Status::INPUT_FAULT.0,
+        | Status::INPUT_FAULT.0
+        | Status::WINDOW_MOVED.0,
 );
 
 /// Flags that also keep the breakage detector from deciding. Not `TRANSIENT`: the
@@ -675,9 +676,12 @@ impl Alarms {
                 .intersects(Status(bad_data.0 & !Status::NOT_CUTTING.0));
         let two_dead = dead && st.prev_dead;
         st.prev_dead = dead;
-        // A lost or swallowed tooth breaks the tooth alignment the detector relies on.
+        // A lost or swallowed tooth, or a moved window, breaks the tooth alignment the
+        // detector relies on.
         if (rec.status.contains(Status::PERIOD_INVALID) && !jittered)
-            || rec.status.contains(Status::NO_SYNC)
+            || rec
+                .status
+                .intersects(Status(Status::NO_SYNC.0 | Status::WINDOW_MOVED.0))
         {
             // Forgets every tooth (none is armed any more).
             st.armed = 0;

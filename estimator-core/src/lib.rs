@@ -7,6 +7,7 @@
 //! - [`geometry`], [`coefficients`], [`forward`]: the mechanistic model of paper 000 (eq. 1-9).
 //! - [`estimator`]: immersion ratios from the averages (eq. 10-13), with [`invert`],
 //!   [`poly`] (fitted for the motor route, constants in [`fxt_poly`]) and [`table3`].
+//! - [`tooth`], [`window`]: tooth-synchronous averages, and where their window begins.
 //! - [`status`]: what every estimate carries.
 #![no_std]
 
@@ -37,6 +38,7 @@ pub mod status;
 pub mod table;
 pub mod table3;
 pub mod tooth;
+pub mod window;
 
 pub use coefficients::{CuttingCoefficients, LinearCoefficients, PowerLaw, TABLE2};
 pub use estimator::{Estimate, Estimator, EstimatorConfig, Measured, Method, Solver};

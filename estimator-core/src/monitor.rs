@@ -4,7 +4,8 @@
 //! # Design
 //! `samples -> tooth means -> forces -> filtered forces -> immersion`, per tooth:
 //! 1. [`crate::tooth`] averages the raw channels over each tooth period (per sample: a few
-//!    additions; everything below runs once per tooth).
+//!    additions; everything below runs once per tooth), from a boundary that
+//!    [`crate::window`] places where no flute cuts (the encoder pulse, delayed).
 //! 2. The means become forces ([`crate::drive`]): the feed force `F_ax` from the feed-axis
 //!    currents, projected on the feed direction, and the tangential force `F_at` from the
 //!    spindle current or load; or, from a dynamometer, `F_ax` and `F_ay` directly. All
@@ -26,6 +27,7 @@ use crate::fmath;
 use crate::probe::{NoProbe, Probe, Stage};
 use crate::status::Status;
 use crate::tooth::{Period, SyncMode, Timing, ToothState, CHANNELS};
+use crate::window::{Window, WindowState};
 use crate::ConfigError;
 
 /// Most teeth the filter window may hold (`filter_revs * flutes`, and at least two
@@ -108,6 +110,9 @@ pub struct MonitorConfig {
     /// Clipping levels of the feed X, feed Y and spindle inputs (same units as the
     /// samples); a sample at or beyond is saturated.
     pub clip: [f32; 3],
+    /// Learn where in the tooth period no flute cuts and begin the averaging windows there
+    /// ([`crate::window`]); off: they begin at the encoder pulse.
+    pub align_window: bool,
 }
 
 impl Default for MonitorConfig {
@@ -129,6 +134,7 @@ impl Default for MonitorConfig {
             transient_rel: 0.02,
             feed_change_rel: 0.03,
             clip: [f32::INFINITY; 3],
+            align_window: true,
         }
     }
 }
@@ -186,9 +192,18 @@ impl MonitorConfig {
         if timing.min_period < 2 {
             return Err(OutOfRange("max_rpm"));
         }
+        let boundary = Window {
+            align: self.align_window,
+            teeth_per_pulse: match self.sync {
+                SyncMode::PerTooth => 1,
+                SyncMode::PerRevolution => n as u8,
+            },
+            teeth: n as u8,
+        };
         Ok(Monitor {
             est,
             timing,
+            boundary,
             window,
             settle: window.max(2 * n),
             clip_any: self.clip.iter().any(|c| *c < f32::INFINITY),
@@ -330,6 +345,7 @@ struct Entry {
 #[derive(Clone, Debug)]
 pub struct MonitorState {
     tooth: ToothState,
+    win: WindowState,
     ring: [Entry; MAX_WINDOW],
     /// `rev[i]`: mean of the revolution (`flutes` entries) ending at `ring[i]`, newest
     /// first, made when `ring[i]` was stored. A revolution that reaches back before the
@@ -361,6 +377,7 @@ impl Default for MonitorState {
     fn default() -> Self {
         MonitorState {
             tooth: ToothState::default(),
+            win: WindowState::default(),
             ring: [Entry::default(); MAX_WINDOW],
             rev: [Entry::default(); MAX_WINDOW],
             head: 0,
@@ -416,6 +433,8 @@ pub struct Monitor {
     cfg: MonitorConfig,
     est: Estimator,
     timing: Timing,
+    /// Where the tooth windows begin.
+    boundary: Window,
     window: usize,
     /// Derived once: `settle_teeth()`, `1 / flutes`, `1 / filter_revs`, whether any clip
     /// level is finite (with none, the per-sample clip test is left out).
@@ -482,8 +501,39 @@ impl Monitor {
             FeedVelocity::Nominal(v) => v,
         };
         let x: [f32; CHANNELS] = [s.feed[0], s.feed[1], v[0], v[1], s.spindle];
-        self.timing
-            .push_checked(&mut st.tooth, &x, s.sync, self.clip_any)
+        let sync = self.boundary.delay(&mut st.win, s.sync);
+        let mut p = self
+            .timing
+            .push_checked(&mut st.tooth, &x, sync, self.clip_any);
+        self.boundary
+            .profile(&mut st.win, &x, p.as_ref().map(|p| p.samples));
+        if let Some(p) = p.as_mut() {
+            if self.boundary.take_moved(&mut st.win) {
+                p.status |= Status::WINDOW_MOVED;
+            }
+        }
+        p
+    }
+
+    /// Feed force and second force [N] from a period's raw channel means (feed X, feed Y,
+    /// velocity X, Y, spindle) at `rpm`, and whether the feed moves.
+    #[inline(always)]
+    fn forces(&self, m: [f32; CHANNELS], rpm: f32) -> (f32, f32, bool) {
+        let [m0, m1, v0, v1, sp] = m;
+        match &self.cfg.input {
+            Input::Motor { feed, spindle } => {
+                let (fx_n, moving) = feed.feed_force_and_moving([m0, m1], [v0, v1]);
+                let ft_n = spindle.tangential_force_n(sp, rpm, self.cfg.estimator.tool.radius_mm);
+                (fx_n, ft_n, moving)
+            }
+            Input::Dynamometer => (m0, m1, fmath::hypot(v0, v1) > 0.0),
+        }
+    }
+
+    /// Where the window's boundary is in the tooth period (share of a period after the
+    /// encoder pulse).
+    pub fn window_phase(&self, st: &MonitorState) -> f32 {
+        st.win.phase()
     }
 
     /// Everything that happens once per tooth period.
@@ -533,17 +583,10 @@ impl Monitor {
         } else {
             0.0
         };
-        let [m0, m1, v0, v1, sp] = p.mean;
+        let [_, _, v0, v1, _] = p.mean;
         let speed = crate::fmath::hypot(v0, v1);
         let tc_mm = speed / (n as f32 * rpm);
-        let (fx_n, f2_n, moving) = match &self.cfg.input {
-            Input::Motor { feed, spindle } => {
-                let (fx_n, moving) = feed.feed_force_and_moving([m0, m1], [v0, v1]);
-                let ft_n = spindle.tangential_force_n(sp, rpm, self.cfg.estimator.tool.radius_mm);
-                (fx_n, ft_n, moving)
-            }
-            Input::Dynamometer => (m0, m1, speed > 0.0),
-        };
+        let (fx_n, f2_n, moving) = self.forces(p.mean, rpm);
         probe.mark(Stage::Forces);
         let finite = [
             rpm.is_finite(),
@@ -561,6 +604,10 @@ impl Monitor {
             moving,
         };
         let (status, e) = self.judge(st, p.status, &means, probe);
+        self.boundary.review(&mut st.win, status, |[a, b, c]| {
+            let (fx, f2, _) = self.forces([a, b, v0, v1, c], rpm);
+            fx * fx + f2 * f2
+        });
         // The immersion fields are 0 unless the record is valid.
         let valid = status.is_valid() && e.method != Method::None;
         let r = self.cfg.estimator.tool.radius_mm;

@@ -43,9 +43,12 @@ impl Status {
     pub const FEED_CHANGE: Status = Status(1 << 10);
     /// The filter window still holds data from before the last disturbance.
     pub const SETTLING: Status = Status(1 << 11);
+    /// The averaging window's boundary moved to a new place in the tooth period (see
+    /// [`crate::window`]) within this period: its average mixes two alignments.
+    pub const WINDOW_MOVED: Status = Status(1 << 12);
 
     /// Names for printing, in bit order.
-    pub const NAMES: [(Status, &'static str); 12] = [
+    pub const NAMES: [(Status, &'static str); 13] = [
         (Self::NOT_CUTTING, "not_cutting"),
         (Self::RR_CLAMPED, "rr_clamped"),
         (Self::RA_CLAMPED, "ra_clamped"),
@@ -58,6 +61,7 @@ impl Status {
         (Self::TRANSIENT, "transient"),
         (Self::FEED_CHANGE, "feed_change"),
         (Self::SETTLING, "settling"),
+        (Self::WINDOW_MOVED, "window_moved"),
     ];
 
     /// Parses `valid` or names joined by `|` (the `Display` form).

@@ -3,8 +3,9 @@
 //! # Design
 //! Each case is a scenario for [`crate::sim`] built from random draws (tool, speed, feed,
 //! engagement, milling mode, runout up to one flute cutting 35 % more, 3 % noise on the
-//! tooth averages, current-loop lag, entry into and exit from the work through faces square
-//! to the feed, feed and speed changes), then
+//! tooth averages, current-loop lag, the encoder's pulse at any angle to the flutes, entry
+//! into and exit from the work through faces square to the feed, feed and speed changes),
+//! then
 //! replayed sample by sample through `estimator_core::Pipeline` (the firmware's code) with
 //! the board model the scenario was simulated with. Five sets:
 //! - normal: no damage; every alarm is a false alarm;
@@ -398,6 +399,8 @@ pub fn draw_case(kind: Kind, index: usize, seed: u64) -> Result<Case> {
     let flute = (d.unit() * f64::from(flutes)) as u8 % flutes;
     let in_arc = d.unit();
     let chip_share = d.range(0.3, 0.7);
+    // The encoder's pulse at any angle to the flutes (the tool clamped at any angle).
+    let sync_phase_deg = d.range(0.0, 360.0 / f64::from(flutes));
     let mode_name = match mode {
         MillingMode::Down => "down",
         MillingMode::Up => "up",
@@ -433,7 +436,7 @@ pub fn draw_case(kind: Kind, index: usize, seed: u64) -> Result<Case> {
             "sample_rate_hz = {FS_HZ}\nseed = {seed}\nmode = \"{mode_name}\"\n\
              [tool]\nradius_mm = {radius}\nflutes = {flutes}\nhelix_deg = 30.0\nrunout_mm = [{runout_list}]\n\
              {BOARD}\n[signal]\nfeed_lag_s = 0.0005\nspindle_lag_s = 0.0005\nfeed_noise = {feed_noise}\n\
-             spindle_noise = {spindle_noise}\nsync_jitter_samples = 1\n{segs}"
+             spindle_noise = {spindle_noise}\nsync_jitter_samples = 1\nsync_phase_deg = {sync_phase_deg}\n{segs}"
         )
     };
     let name = format!("{} case {index}", kind.name());
@@ -634,11 +637,14 @@ pub fn run_case(case: &Case) -> Result<Outcome> {
 }
 
 /// Runs every case of `sizes` on up to `threads` threads.
-pub fn evaluate(sizes: SetSizes, seed: u64, threads: usize) -> Result<Vec<Outcome>> {
+/// `align`: the monitor places the tooth windows ([`MonitorConfig::align_window`]).
+pub fn evaluate(sizes: SetSizes, seed: u64, threads: usize, align: bool) -> Result<Vec<Outcome>> {
     let mut cases = Vec::new();
     for (kind, &n) in KINDS.iter().zip(&sizes.counts) {
         for i in 0..n {
-            cases.push(draw_case(*kind, i, seed)?);
+            let mut case = draw_case(*kind, i, seed)?;
+            case.machine.monitor.align_window = align;
+            cases.push(case);
         }
     }
     let threads = threads.clamp(1, 16);

@@ -190,6 +190,11 @@ enum Command {
         /// Also list every case's outcome (stderr).
         #[arg(long)]
         verbose: bool,
+        /// Average every tooth from the encoder pulse (`align_window = false`), for
+        /// comparison: by default the monitor learns where no flute cuts and begins the
+        /// tooth windows there.
+        #[arg(long)]
+        window_at_pulse: bool,
     },
 }
 
@@ -277,7 +282,8 @@ fn run(cli: Cli) -> Result<()> {
             threads,
             check,
             verbose,
-        } => evaluate_cmd(set, seed, threads, check, verbose),
+            window_at_pulse,
+        } => evaluate_cmd(set, seed, threads, check, verbose, !window_at_pulse),
     }
 }
 
@@ -300,14 +306,21 @@ fn machine_rs_cmd(config: &Path, output: &Path) -> Result<()> {
     Ok(())
 }
 
-fn evaluate_cmd(set: SetArg, seed: u64, threads: usize, check: bool, verbose: bool) -> Result<()> {
+fn evaluate_cmd(
+    set: SetArg,
+    seed: u64,
+    threads: usize,
+    check: bool,
+    verbose: bool,
+    align: bool,
+) -> Result<()> {
     use host_sim::evaluate;
     let sizes = match set {
         SetArg::Small => evaluate::SetSizes::SMALL,
         SetArg::Full => evaluate::SetSizes::FULL,
     };
     let start = std::time::Instant::now();
-    let outcomes = evaluate::evaluate(sizes, seed, threads)?;
+    let outcomes = evaluate::evaluate(sizes, seed, threads, align)?;
     let fig = evaluate::figures(&outcomes);
     if verbose {
         for o in &outcomes {

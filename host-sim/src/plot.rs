@@ -32,13 +32,14 @@ pub const SIZE: (u32, u32) = (1600, 1150);
 pub const MAX_LINE_POINTS: usize = 20_000;
 
 /// Non-valid causes in priority order (the first one present names a record's colour).
-pub const CAUSES: [(Status, &str, RGBColor); 12] = [
+pub const CAUSES: [(Status, &str, RGBColor); 13] = [
     (Status::NO_SYNC, "no sync", RGBColor(120, 0, 120)),
     (
         Status::PERIOD_INVALID,
         "period invalid",
         RGBColor(200, 0, 200),
     ),
+    (Status::WINDOW_MOVED, "window moved", RGBColor(255, 0, 120)),
     (Status::INPUT_FAULT, "input fault", RGBColor(200, 0, 0)),
     (Status::NON_FINITE, "non-finite", RGBColor(120, 0, 0)),
     (Status::NOT_CUTTING, "not cutting", RGBColor(170, 170, 170)),
@@ -57,7 +58,11 @@ pub const CAUSES: [(Status, &str, RGBColor); 12] = [
 
 /// Flags that make a record's tooth averages meaningless (not plotted as forces).
 const NO_AVERAGE: Status = Status(
-    Status::NO_SYNC.0 | Status::PERIOD_INVALID.0 | Status::INPUT_FAULT.0 | Status::NON_FINITE.0,
+    Status::NO_SYNC.0
+        | Status::PERIOD_INVALID.0
+        | Status::WINDOW_MOVED.0
+        | Status::INPUT_FAULT.0
+        | Status::NON_FINITE.0,
 );
 
 /// Index in [`CAUSES`] of the main reason a record is not valid; `None` if valid;

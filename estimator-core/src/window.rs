@@ -1,0 +1,319 @@
+//! Where each tooth period's averaging window begins: at the encoder pulse, delayed by a
+//! share of the period learned so that the boundary falls where no flute cuts.
+//!
+//! # Design
+//! The tooth-sync pulse sits at whatever angle to the flutes the tool was clamped at. With
+//! the boundary inside a flute's cut (down milling with a helix: the upper edge still
+//! cuts after the tip leaves), every tooth average holds the end of one flute's cut and
+//! the start of the next one's: a flute that breaks changes two averages by part of its
+//! loss each, and the chip it hands to the next flute partly lands in the same average.
+//! The breakage signature shrinks, up to halving. Windows that begin where no flute cuts
+//! keep each flute's cut in one average.
+//!
+//! The boundary is the pulse delayed by `phase` of a tooth period (a share in 1/65536;
+//! the delay in samples from the last interval between pulses, divided by the teeth per
+//! pulse). With `phase` 0 the delayed pulse is the pulse, sample for sample.
+//!
+//! Learning: per sample, the raw feed and spindle channels are summed into
+//! [`PROFILE_BINS`] bins of the open tooth period. After [`REVIEW_REVS`] revolutions of
+//! steady cutting (the monitor calls [`Window::review`] with every record), the monitor
+//! converts the bins to forces, and the boundary moves to the middle of the bin of least
+//! resultant force if the current boundary's two bins are above that by more than
+//! [`MOVE_SHARE`] of the profile's mean (squared resultants; hysteresis: a flat profile,
+//! flutes always engaged, never moves it). Any record that is not a steady cut restarts
+//! the profile. The period in which the new delay takes over has an odd length: longer
+//! (past one and a half periods it counts as two teeth, as after a lost pulse) or, where
+//! the new boundary comes less than half a period after the last, a glitch merged into
+//! the next period; [`crate::tooth::Timing`] flags both. The period in which the boundary moved
+//! is flagged [`Status::WINDOW_MOVED`]: it mixes two alignments, and the detectors forget
+//! their tooth history there, as at a lost pulse.
+
+use crate::status::Status;
+use crate::tooth::CHANNELS;
+
+/// Bins of the in-period force profile.
+pub const PROFILE_BINS: usize = 16;
+/// Revolutions of steady cutting a profile is reviewed after.
+pub const REVIEW_REVS: u32 = 8;
+/// The boundary moves when its squared resultant exceeds the least bin's by this share of
+/// the profile's mean square.
+pub const MOVE_SHARE: f32 = 0.3;
+/// Weight of a new interval between pulses in their running mean.
+const LEN_WEIGHT: f32 = 0.0625;
+
+/// Records that end a profile: no cut, bad data, or a cut that is changing.
+const NOT_STEADY: Status = Status(
+    Status::NOT_CUTTING.0
+        | Status::NON_FINITE.0
+        | Status::PERIOD_INVALID.0
+        | Status::NO_SYNC.0
+        | Status::INPUT_FAULT.0
+        | Status::TRANSIENT.0
+        | Status::FEED_CHANGE.0
+        | Status::WINDOW_MOVED.0,
+);
+
+/// The window stage, derived once from the monitor's configuration.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Window {
+    /// Learn the boundary (off: the window begins at the pulse).
+    pub align: bool,
+    /// Teeth between two pulses (1 per tooth, `N` per revolution).
+    pub teeth_per_pulse: u8,
+    /// Teeth per revolution.
+    pub teeth: u8,
+}
+
+/// Running state.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct WindowState {
+    /// Boundary delay, share of a tooth period in 1/65536.
+    phase: u16,
+    /// Moves so far (wrapping), and the move each pending pulse was delayed under.
+    epoch: u8,
+    /// Delayed pulses to come: samples left (0: slot free), epoch.
+    pending: [(u32, u8); 2],
+    /// Epoch of the last delayed pulse fired.
+    fired_epoch: u8,
+    /// The boundary moved: flag the next period that closes.
+    moved: bool,
+    /// Samples since the last pulse, and the interval between pulses, averaged.
+    since_pulse: u32,
+    pulse_len: f32,
+    /// Position in the open period [samples], and bins per sample (16.16 fixed point).
+    pos: u32,
+    bin_step: u32,
+    /// Per bin: sums of raw feed X, feed Y, spindle, and the samples summed.
+    prof: [[f32; 3]; PROFILE_BINS],
+    prof_n: [u32; PROFILE_BINS],
+    /// Steady periods in the profile.
+    periods: u32,
+    /// The last record was a steady cut: samples go into the profile.
+    learning: bool,
+    /// The boundary moved in this cut (it moves once a cut).
+    placed: bool,
+}
+
+impl WindowState {
+    /// Boundary delay, share of a tooth period.
+    pub fn phase(&self) -> f32 {
+        self.phase as f32 / 65536.0
+    }
+}
+
+impl Window {
+    /// The sync line as the tooth stage sees it: `sync` delayed by the boundary's phase.
+    #[inline(always)]
+    pub fn delay(&self, st: &mut WindowState, sync: bool) -> bool {
+        let mut fire = false;
+        if st.pending[0].0 | st.pending[1].0 != 0 {
+            for (left, epoch) in st.pending.iter_mut() {
+                if *left != 0 {
+                    *left -= 1;
+                    if *left == 0 {
+                        fire = true;
+                        if *epoch != st.fired_epoch {
+                            st.fired_epoch = *epoch;
+                            st.moved = true;
+                        }
+                    }
+                }
+            }
+        }
+        st.since_pulse = st.since_pulse.saturating_add(1);
+        if sync {
+            // The delay from the interval averaged over about 16 pulses: from the last
+            // interval alone, a pulse that comes late (encoder jitter) would be delayed
+            // the more for it, doubling the jitter of the boundaries. A jump of more than a
+            // quarter (a lost pulse, a new cut) starts the average again.
+            let len = st.since_pulse as f32;
+            st.since_pulse = 0;
+            st.pulse_len = if libm::fabsf(len - st.pulse_len) > 0.25 * st.pulse_len {
+                len
+            } else {
+                st.pulse_len + (len - st.pulse_len) * LEN_WEIGHT
+            };
+            let tooth_len = st.pulse_len / self.teeth_per_pulse.max(1) as f32;
+            // Rounded; `as u32` saturates (and takes NaN to 0).
+            let d = (st.phase as f32 * (1.0 / 65536.0) * tooth_len + 0.5) as u32;
+            if d == 0 {
+                fire = true;
+                if st.epoch != st.fired_epoch {
+                    st.fired_epoch = st.epoch;
+                    st.moved = true;
+                }
+            } else if let Some(slot) = st.pending.iter_mut().find(|p| p.0 == 0) {
+                *slot = (d, st.epoch);
+            } else {
+                // Pulses closer than the delay twice over: a burst of glitches. This one
+                // goes through undelayed; the tooth stage flags it as a glitch.
+                fire = true;
+            }
+        }
+        fire
+    }
+
+    /// Adds a sample to the profile, after the tooth stage has seen it (`closed`: the
+    /// sample opened a new period, of which `last_len` is the previous one's length).
+    #[inline(always)]
+    pub fn profile(&self, st: &mut WindowState, x: &[f32; CHANNELS], closed: Option<u32>) {
+        if let Some(len) = closed {
+            st.pos = 0;
+            st.bin_step = ((PROFILE_BINS as u32) << 16) / len.max(1);
+        }
+        let pos = st.pos;
+        st.pos = pos.saturating_add(1);
+        if !st.learning {
+            return;
+        }
+        let bin = ((pos as u64 * st.bin_step as u64) >> 16) as usize;
+        let v = [x[0], x[1], x[4]];
+        if (v[0] + v[1] + v[2]).is_finite() {
+            let bin = bin.min(PROFILE_BINS - 1);
+            if let (Some(p), Some(n)) = (st.prof.get_mut(bin), st.prof_n.get_mut(bin)) {
+                p[0] += v[0];
+                p[1] += v[1];
+                p[2] += v[2];
+                *n += 1;
+            }
+        }
+    }
+
+    /// Whether the period closing now is the first under a moved boundary (then cleared).
+    #[inline(always)]
+    pub fn take_moved(&self, st: &mut WindowState) -> bool {
+        core::mem::take(&mut st.moved)
+    }
+
+    /// Once per record, with its status: counts steady periods and, every
+    /// [`REVIEW_REVS`] revolutions of them, moves the boundary to the least-force bin of
+    /// the profile. `force2` converts a bin's raw means `[feed X, feed Y, spindle]` to the
+    /// squared resultant force. Returns whether the boundary moved.
+    pub fn review(
+        &self,
+        st: &mut WindowState,
+        status: Status,
+        force2: impl Fn([f32; 3]) -> f32,
+    ) -> bool {
+        if !self.align {
+            return false;
+        }
+        if status.contains(Status::NOT_CUTTING) {
+            st.placed = false;
+        }
+        if st.placed || status.intersects(NOT_STEADY) {
+            st.learning = false;
+            return false;
+        }
+        if !st.learning {
+            // The profile starts with the period that opens now.
+            st.learning = true;
+            self.restart(st);
+            return false;
+        }
+        st.periods += 1;
+        if st.periods < REVIEW_REVS * self.teeth.max(1) as u32 {
+            return false;
+        }
+        let mut r2 = [0.0f32; PROFILE_BINS];
+        let mut mean = 0.0f32;
+        for ((r, p), &n) in r2.iter_mut().zip(&st.prof).zip(&st.prof_n) {
+            let inv = 1.0 / n.max(1) as f32;
+            *r = force2([p[0] * inv, p[1] * inv, p[2] * inv]);
+            mean += *r;
+        }
+        self.restart(st);
+        let mean = mean / PROFILE_BINS as f32;
+        let (mut j, mut least) = (0usize, f32::INFINITY);
+        for (k, &r) in r2.iter().enumerate() {
+            if r < least {
+                (j, least) = (k, r);
+            }
+        }
+        let boundary = 0.5 * (r2[0] + r2[PROFILE_BINS - 1]);
+        // Not `<=`: a NaN profile (absurd conversion) moves nothing.
+        #[allow(clippy::neg_cmp_op_on_partial_ord)]
+        if !(boundary - least > MOVE_SHARE * mean) {
+            return false;
+        }
+        // The middle of bin `j`, as a share of the period in 1/65536.
+        let shift = ((2 * j as u32 + 1) << 16) / (2 * PROFILE_BINS as u32);
+        st.phase = st.phase.wrapping_add(shift as u16);
+        st.epoch = st.epoch.wrapping_add(1);
+        st.placed = true;
+        true
+    }
+
+    fn restart(&self, st: &mut WindowState) {
+        st.prof = [[0.0; 3]; PROFILE_BINS];
+        st.prof_n = [0; PROFILE_BINS];
+        st.periods = 0;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::vec::Vec;
+
+    fn window(teeth_per_pulse: u8) -> Window {
+        Window {
+            align: true,
+            teeth_per_pulse,
+            teeth: 4,
+        }
+    }
+
+    /// Samples at which `delay` fires, for pulses at `pulses` (sorted) over `len` samples.
+    fn fired(w: &Window, st: &mut WindowState, pulses: &[usize], len: usize) -> Vec<usize> {
+        (0..len)
+            .filter(|i| w.delay(st, pulses.contains(i)))
+            .collect()
+    }
+
+    #[test]
+    fn phase_zero_passes_the_pulses_through() {
+        let w = window(1);
+        let mut st = WindowState::default();
+        let pulses: Vec<usize> = (0..50).map(|k| 13 + k * 97 + (k * 7) % 3).collect();
+        assert_eq!(fired(&w, &mut st, &pulses, 5000), pulses);
+        assert!(!w.take_moved(&mut st));
+    }
+
+    #[test]
+    fn a_phase_delays_each_pulse_by_its_share_of_the_interval() {
+        let w = window(1);
+        let mut st = WindowState {
+            phase: 0xA800, // 0.65625
+            ..WindowState::default()
+        };
+        // Regular pulses: each boundary is round(0.65625 * 79) = 52 samples after its
+        // pulse (the first pulse has no interval before it).
+        let pulses: Vec<usize> = (0..50).map(|k| 13 + k * 79).collect();
+        let got = fired(&w, &mut st, &pulses, 5000);
+        let expect: Vec<usize> = pulses[1..].iter().map(|p| p + 52).collect();
+        assert_eq!(got[1..], expect[..]);
+    }
+
+    #[test]
+    fn encoder_jitter_is_not_doubled_by_the_delay() {
+        let w = window(1);
+        let mut st = WindowState {
+            phase: 0xA800,
+            ..WindowState::default()
+        };
+        // Pulses +-2 samples off a 79-sample grid: intervals 75..=83.
+        let jitter = [0i64, 2, -2, 1, -1, 2, 0, -2, 1];
+        let pulses: Vec<usize> = (0..60)
+            .map(|k| (13 + k as i64 * 79 + jitter[k % jitter.len()]) as usize)
+            .collect();
+        let got = fired(&w, &mut st, &pulses, 5000);
+        let intervals =
+            |v: &[usize]| -> Vec<i64> { v.windows(2).map(|p| p[1] as i64 - p[0] as i64).collect() };
+        let raw = intervals(&pulses);
+        let out = intervals(&got[10..]);
+        let spread = |v: &[i64]| v.iter().max().unwrap() - v.iter().min().unwrap();
+        // One sample more than the pulses' own spread at most (the delay's rounding).
+        assert!(spread(&out) <= spread(&raw) + 1, "{out:?} against {raw:?}");
+    }
+}
