@@ -43,6 +43,11 @@
 //!     earlier raise no breakage: nothing cuts (a lost tool, whose flutes of unequal
 //!     runout fall by unequal amounts and swing `E` both ways, or an exit's end).
 //!
+//!   - after the tooth history is forgotten in a steady cut (the window moved, a lost
+//!     pulse), until two revolutions are armed again: a tooth before the newest carrying
+//!     under `GONE_SHARE` (30 %) of the revolution mean while the cut goes on (a flute lost
+//!     then would be the steady pattern by the time the rules above compare again).
+//!
 //!   Not decided on feed/speed changes, air cuts or bad input. A period flagged invalid
 //!   only for its length jump (sync jitter at short periods), in tooth order and within a
 //!   quarter of the previous length, is used and keeps the history; any other invalid
@@ -430,6 +435,9 @@ pub struct AlarmState {
     /// The previous record's data was good and its watched force below the not-cutting
     /// floor (tool gone: two such teeth in a row).
     prev_dead: bool,
+    /// Records left in which a steady cut resumes after the tooth history was forgotten
+    /// (see [`Alarms::flute_missing`]); 0: not resuming.
+    resumed: u8,
 }
 
 impl Default for AlarmState {
@@ -461,6 +469,7 @@ impl Default for AlarmState {
             latched: None,
             prev_steady: false,
             prev_dead: false,
+            resumed: 0,
         }
     }
 }
@@ -683,10 +692,22 @@ impl Alarms {
                 .status
                 .intersects(Status(Status::NO_SYNC.0 | Status::WINDOW_MOVED.0))
         {
-            // Forgets every tooth (none is armed any more).
+            // Forgets every tooth (none is armed any more). Out of a steady cut, the
+            // two revolutions until the rules compare revolutions again are watched for
+            // a flute that carries nothing (`flute_missing`).
             st.armed = 0;
             st.exceed_pos = 0;
             st.exceed_neg = 0;
+            // (Steady within the last revolution: the period after a moved window or a
+            // lost pulse is often flagged for its length too, a second forget.)
+            st.resumed = if st.since_steady <= n as u32 {
+                (2 * n + 2).min(u8::MAX as usize) as u8
+            } else {
+                0
+            };
+        }
+        if rec.status.contains(Status::NOT_CUTTING) {
+            st.resumed = 0;
         }
         if rec.status.is_valid() {
             st.held = Some((rec.rr, rec.ra));
@@ -858,6 +879,20 @@ impl Alarms {
                     };
                     st.e_var += w * (crate::fmath::min(e * e, clip * clip) - st.e_var);
                     st.e_count = st.e_count.saturating_add(1);
+                }
+            }
+        }
+
+        // A cut resuming after the history was forgotten (the window moved, a lost
+        // pulse): until two revolutions are armed nothing above can compare, and a flute
+        // lost in that time would never be seen (its pattern is steady by then).
+        if st.resumed > 0 {
+            st.resumed -= 1;
+            if let (true, Some(mean), None) =
+                (self.cfg.breakage.enabled && deciding, rev_mean, rev_change)
+            {
+                if let Some((least, limit)) = self.flute_missing(st, mean) {
+                    raise(Cause::Breakage, least, limit);
                 }
             }
         }
@@ -1224,6 +1259,27 @@ impl Alarms {
         Some(sum)
     }
 
+    /// A flute that carries nothing in a cut that goes on: the least of the `N - 1` teeth
+    /// before the newest below [`GONE_SHARE`] of the mean of the newest `N` (armed), the
+    /// mean a steady cut's (within [`STRONG_SHARE`] of the force before). Runout of 35 %
+    /// leaves the weakest flute over half the mean; in a cut where windows hold one flute
+    /// each, a lost flute leaves its period empty. The newest tooth is left out: empty
+    /// alone it is the first of a lost tool (two empty in a row are `collapsed`, tool
+    /// gone). Returns the least and the limit.
+    #[cold]
+    #[inline(never)]
+    fn flute_missing(&self, st: &AlarmState, mean: f32) -> Option<(f32, f32)> {
+        if !(mean >= STRONG_SHARE * st.steady_force_n && st.steady_force_n > 0.0) {
+            return None;
+        }
+        let mut least = f32::INFINITY;
+        for k in 1..self.n {
+            least = crate::fmath::min(least, st.force(k));
+        }
+        let limit = GONE_SHARE * mean;
+        (least < limit).then_some((least, limit))
+    }
+
     /// Whether `rec` is a force collapse right after a steady cut while feeding.
     fn gone_candidate(&self, st: &AlarmState, rec: &ToothRecord, two_dead: bool) -> bool {
         (rec.status.contains(Status::NOT_CUTTING) || two_dead)
@@ -1453,6 +1509,60 @@ mod tests {
             *x *= 1.0 - 0.8 * libm::sqrtf(((j + 1) as f32 / 5.0).min(1.0));
         }
         assert_eq!(first_latch(&f, usize::MAX), (None, None));
+    }
+
+    /// A steady cut whose tooth history is forgotten at record `forget` (the window moved;
+    /// the period after it flagged for its length too), then `f` goes on; records from
+    /// `gone_from` on at or under 5 N are not cutting. The first event: index and cause.
+    fn first_event_after_forget(
+        f: &[f32],
+        forget: usize,
+        gone_from: usize,
+    ) -> Option<(usize, Cause)> {
+        let est = EstimatorConfig {
+            force_floor_n: 5.0,
+            ..EstimatorConfig::default()
+        };
+        let a = AlarmConfig::default().build(&est).unwrap();
+        let mut st = AlarmState::default();
+        for (i, &fx) in f.iter().enumerate() {
+            let status = match i {
+                _ if i == forget => Status::WINDOW_MOVED | Status::PERIOD_INVALID,
+                _ if i == forget + 1 => Status::PERIOD_INVALID,
+                _ if i >= gone_from && fx <= 5.0 => Status::NOT_CUTTING,
+                _ => Status::AMBIGUOUS,
+            };
+            if let Some(e) = a.process(&mut st, &record(i, fx, status)).event {
+                return Some((i, e.cause));
+            }
+        }
+        None
+    }
+
+    /// A flute lost just after the history was forgotten: by the time two revolutions are
+    /// armed again its empty period is the steady pattern and no revolution-to-revolution
+    /// rule can see it. The empty period, with the next tooth cutting, is decided in those
+    /// two revolutions; steady runout (flute 0 at 130 %, the flute after it at 100 %) and a
+    /// tool lost there are not breakages.
+    #[test]
+    fn a_flute_lost_while_the_history_is_forgotten_is_still_caught() {
+        let steady = forces(3.0, 40, &[0.0; 32]);
+        assert_eq!(first_event_after_forget(&steady, 160, usize::MAX), None);
+        // Flute 2 lost at the move: tooth 2 empty from record 162 on, tooth 3 takes its chip.
+        let broken = [0.0, 0.0, -100.0, 100.0];
+        let f = forces(3.0, 40, &[broken; 8].concat());
+        let (at, cause) = first_event_after_forget(&f, 160, usize::MAX).unwrap();
+        assert_eq!(cause, Cause::Breakage);
+        assert!((162..=160 + 2 * 4 + 2).contains(&at), "decided at {at}");
+        // The whole tool lost after the move: tool gone, not a breakage (the newest tooth
+        // alone empty is not decided).
+        let mut f = forces(3.0, 40, &[0.0; 3]);
+        f.extend([0.5; 8]);
+        // (Forgotten at 156: armed again from 157, a revolution mean from 160, two from
+        // 164; the tool lost at 163, and not cutting by the monitor's flag a revolution
+        // later.)
+        let gone = first_event_after_forget(&f, 156, 167);
+        assert_eq!(gone.map(|e| e.1), Some(Cause::ToolGone));
     }
 
     #[test]

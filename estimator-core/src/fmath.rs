@@ -36,7 +36,7 @@ pub fn min(a: f32, b: f32) -> f32 {
     }
 }
 
-/// `sqrt(a^2 + b^2)` in f32; falls back to `libm::hypotf` only where squaring would
+/// `sqrt(a^2 + b^2)` in f32; scales by a power of two first only where squaring would
 /// overflow or underflow (never for forces or velocities).
 ///
 /// With one argument zero the result is the other's magnitude, without a square root:
@@ -59,8 +59,37 @@ pub fn hypot(a: f32, b: f32) -> f32 {
     if (1e-18..=1e18).contains(&m) {
         libm::sqrtf(a * a + b * b)
     } else {
-        libm::hypotf(a, b)
+        scaled_hypot(x, y, m)
     }
+}
+
+/// [`hypot`] where squaring would overflow or underflow: the magnitudes `x`, `y` (their
+/// larger `m`) scaled by a power of two into the range, which is exact, and scaled back.
+/// Not `libm::hypotf`: it computes in f64, and the double-precision routines it pulls in
+/// are 2 KiB of the firmware's flash for a path no force takes.
+#[cold]
+fn scaled_hypot(x: f32, y: f32, m: f32) -> f32 {
+    if x == f32::INFINITY || y == f32::INFINITY {
+        return f32::INFINITY;
+    }
+    if x.is_nan() || y.is_nan() {
+        return f32::NAN;
+    }
+    // 2^-70 takes the largest f32 (2^128) to 2^58; 2^90 takes the least subnormal
+    // (2^-149) to 2^-59, whose square is still normal.
+    let (up, down) = if m > 1.0 {
+        (
+            f32::from_bits((127 - 70) << 23),
+            f32::from_bits((127 + 70) << 23),
+        )
+    } else {
+        (
+            f32::from_bits((127 + 90) << 23),
+            f32::from_bits((127 - 90) << 23),
+        )
+    };
+    let (xs, ys) = (x * up, y * up);
+    libm::sqrtf(xs * xs + ys * ys) * down
 }
 
 #[cfg(test)]
@@ -124,7 +153,28 @@ mod tests {
             );
         }
         assert!(hypot(f32::NAN, 0.0).is_nan());
+        assert!(hypot(f32::NAN, 1e30).is_nan() && hypot(1e-30, f32::NAN).is_nan());
+        assert_eq!(hypot(f32::INFINITY, f32::NAN), f32::INFINITY);
+        assert_eq!(hypot(-3.0, f32::NEG_INFINITY), f32::INFINITY);
         assert!(hypot(0.0, f32::NAN).is_nan());
         assert!(hypot(f32::NAN, 1.0).is_nan());
+    }
+
+    /// Out of the squaring range (the scaled path) against libm's f64 `hypotf`, which
+    /// rounds once: within an ulp, from the least subnormal to the largest f32, ratios of
+    /// the two arguments from 1 to beyond f32's precision.
+    #[test]
+    fn scaled_hypot_is_within_an_ulp_of_libm() {
+        let mut bits = 1u32;
+        while bits < f32::MAX.to_bits() {
+            let a = f32::from_bits(bits);
+            for r in [1.0f32, 0.75, 0.3, 1e-3, 1e-9, 0.0] {
+                let b = -a * r;
+                let (got, want) = (hypot(a, b), libm::hypotf(a, b));
+                let ulps = got.to_bits().abs_diff(want.to_bits());
+                assert!(ulps <= 1, "hypot({a:e}, {b:e}) = {got:e}, libm {want:e}");
+            }
+            bits += 9_973;
+        }
     }
 }

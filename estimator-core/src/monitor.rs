@@ -26,7 +26,7 @@ use crate::estimator::{Estimate, Estimator, EstimatorConfig, Measured, Method};
 use crate::fmath;
 use crate::probe::{NoProbe, Probe, Stage};
 use crate::status::Status;
-use crate::tooth::{Period, SyncMode, Timing, ToothState, CHANNELS};
+use crate::tooth::{Period, SyncMode, Timing, ToothState, CHANNELS, LENGTH_CHANGE_SAMPLES};
 use crate::window::{Window, WindowState};
 use crate::ConfigError;
 
@@ -98,14 +98,16 @@ pub struct MonitorConfig {
     pub min_rpm: f32,
     /// Fastest spindle speed [rpm]; a shorter period is a glitch.
     pub max_rpm: f32,
-    /// Largest relative change of the tooth period from one tooth to the next.
+    /// Largest relative change of the tooth period from one tooth to the next, on top of
+    /// the [`LENGTH_CHANGE_SAMPLES`] that timing pulses to whole samples makes.
     pub max_period_jump: f32,
     /// Filter length in revolutions.
     pub filter_revs: u8,
     /// Relative change of the revolution-mean force between consecutive revolutions that
     /// counts as entry, exit or an engagement step.
     pub transient_rel: f32,
-    /// Relative change of the feed per tooth that counts as a feed or speed change.
+    /// Relative change of the feed per tooth that counts as a feed or speed change (of a
+    /// revolution's mean, on top of [`LENGTH_CHANGE_SAMPLES`] of its length).
     pub feed_change_rel: f32,
     /// Clipping levels of the feed X, feed Y and spindle inputs (same units as the
     /// samples); a sample at or beyond is saturated.
@@ -329,6 +331,8 @@ struct Means {
     all_finite: bool,
     /// Feed speed [mm/min] and velocity.
     speed: f32,
+    /// Period length [samples].
+    samples: u32,
     v: [f32; 2],
     moving: bool,
 }
@@ -517,7 +521,11 @@ impl Monitor {
 
     /// Feed force and second force [N] from a period's raw channel means (feed X, feed Y,
     /// velocity X, Y, spindle) at `rpm`, and whether the feed moves.
-    #[inline(always)]
+    ///
+    /// Out of line: the two drive models are about 2 KiB of Cortex-M code, and the window
+    /// stage's review converts its profile with them too; inlined at both places they
+    /// took the firmware over 64 KiB of flash. A call per tooth is the price.
+    #[inline(never)]
     fn forces(&self, m: [f32; CHANNELS], rpm: f32) -> (f32, f32, bool) {
         let [m0, m1, v0, v1, sp] = m;
         match &self.cfg.input {
@@ -600,6 +608,7 @@ impl Monitor {
             f2_n,
             all_finite: finite == [true; 4],
             speed,
+            samples: p.samples,
             v: [v0, v1],
             moving,
         };
@@ -735,10 +744,15 @@ impl Monitor {
         let b = self.blocks(st, n);
         // Feed change: the newest revolution's mean t_c against the one before. A single
         // tooth's t_c jitters by a sample of period length (3 % at 35 samples a tooth); a
-        // revolution's sum of periods does not.
+        // revolution's sum of periods by less, but its change from the last revolution by
+        // the timing of three pulses, as a period's length does: allowed on top (2.6 % at
+        // 40 samples a tooth and 4 flutes), without a division.
         if b.count >= 2 {
             let (now, before) = (b.newest.tc_mm, b.before.tc_mm);
-            if (now - before).abs() > self.cfg.feed_change_rel * before {
+            let rev_samples = (t.samples as usize * n) as f32;
+            if (now - before).abs() * rev_samples
+                > (self.cfg.feed_change_rel * rev_samples + LENGTH_CHANGE_SAMPLES) * before
+            {
                 status |= Status::FEED_CHANGE;
                 st.settle = self.settle_teeth();
             }

@@ -189,6 +189,9 @@ impl Window {
     /// [`REVIEW_REVS`] revolutions of them, moves the boundary to the least-force bin of
     /// the profile. `force2` converts a bin's raw means `[feed X, feed Y, spindle]` to the
     /// squared resultant force. Returns whether the boundary moved.
+    ///
+    /// Out of line: it runs once a tooth, and its profile conversion is long.
+    #[inline(never)]
     pub fn review(
         &self,
         st: &mut WindowState,
