@@ -67,9 +67,8 @@ step cargo test --workspace
 # The core builds for a no_std, no-heap target.
 step cargo build -p estimator-core --target "$TARGET" --release
 step cargo build -p firmware --target "$TARGET" --release
-if command -v llvm-size >/dev/null; then
-    llvm-size "target/$TARGET/release/firmware"
-fi
+# Flash under 64 KiB and static RAM under 16 KiB (it slipped past once, unnoticed).
+step bash tests/budget.sh "target/$TARGET/release/firmware"
 
 # --- slow tests: QEMU (tests/target-check) and data under ../shared/data -------------------
 # Every `#[ignore]`d test of every member runs here; mark new slow tests `#[ignore]` and they

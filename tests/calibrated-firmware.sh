@@ -21,6 +21,4 @@ export CARGO_TARGET_DIR=target/calibrated
 cargo test -p firmware --lib machine_file
 cargo test -p estimator-core --test user_poly
 cargo build -p firmware --bin firmware --target "$TARGET" --release
-if command -v llvm-size >/dev/null; then
-    llvm-size "$CARGO_TARGET_DIR/$TARGET/release/firmware"
-fi
+bash tests/budget.sh "$CARGO_TARGET_DIR/$TARGET/release/firmware"

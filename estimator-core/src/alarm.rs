@@ -39,6 +39,13 @@
 //!     a face square to the feed loses as much (the arc's far reach, where the chip is
 //!     thickest, leaves the work first; the force falls as the square root of the
 //!     travel). A breakage is told from an exit by the chip the next flute takes.
+//!   - the hand-over inside the period ([`crate::handover`], the record's `handover_z`,
+//!     `handover_n`): a flute broken late in its cut loses only the rest of its chip, 5-20
+//!     % of a tooth's force, under the threshold above; over the angles after the break
+//!     the loss, and the next flute's gain a pitch later, stand out of the noise of those
+//!     bins alone. Decided past `HANDOVER_SIGMAS` (4) and `HANDOVER_SHARE` (0.2) of the
+//!     threshold `k F_expected`, out of a steady cut (the record before not transient),
+//!     with the resultant watched (the spindle signal resolves teeth).
 //!   - two teeth in a row fallen below [`GONE_SHARE`] of their force one revolution
 //!     earlier raise no breakage: nothing cuts (a lost tool, whose flutes of unequal
 //!     runout fall by unequal amounts and swing `E` both ways, or an exit's end).
@@ -501,6 +508,14 @@ const FIRST_TOOTH_QUIET_TEETH: usize = 3;
 /// cuts any more (a lost tool, the last teeth of an exit), not a lost flute.
 const GONE_SHARE: f32 = 0.3;
 
+/// The hand-over inside a period (`ToothRecord::handover_z`) decides beyond this many
+/// standard deviations: a loss and a gain of independent noise each past it, 1e-9 a bin
+/// position under Gaussian noise.
+const HANDOVER_SIGMAS: f32 = 4.0;
+/// ... and beyond this share of the breakage threshold (`k` times the expected force):
+/// a hand-over too small to matter (a very quiet signal) is not a breakage.
+const HANDOVER_SHARE: f32 = 0.2;
+
 /// A single `E` beyond this multiple of the threshold raises a breakage by itself.
 const SINGLE_EXCEEDANCE: f32 = 3.0;
 
@@ -866,6 +881,23 @@ impl Alarms {
                         self.first_tooth(st, r0, before, prev_steady, settled)
                     {
                         raise(Cause::Breakage, value, threshold);
+                    }
+                }
+                // The hand-over inside a period (`crate::handover`): a flute broken late
+                // in its cut, the loss and the next flute's gain over the same angles,
+                // out of a steady cut.
+                if settled
+                    && prev_steady
+                    && rec.handover_z > HANDOVER_SIGMAS
+                    && self.cfg.breakage.signal == BreakageSignal::Resultant
+                {
+                    let expected = match st.held {
+                        Some((rr, ra)) => self.model_signal(rr, ra, rec.tc_mm),
+                        None => measured,
+                    };
+                    let t = HANDOVER_SHARE * k * expected;
+                    if rec.handover_n > t {
+                        raise(Cause::Breakage, rec.handover_n, t);
                     }
                 }
                 if !exceeded {
@@ -1537,6 +1569,52 @@ mod tests {
             }
         }
         None
+    }
+
+    /// The first event of a steady cut (AMBIGUOUS: not a valid estimate, so the threshold
+    /// is on the measured force, about 107 N) whose record `at` carries the hand-over
+    /// `(z, newtons)`; the record before it transient if `transient_before`.
+    fn first_event_with_handover(
+        at: usize,
+        handover: (f32, f32),
+        transient_before: bool,
+    ) -> Option<(usize, Cause)> {
+        let a = AlarmConfig::default()
+            .build(&EstimatorConfig::default())
+            .unwrap();
+        let mut st = AlarmState::default();
+        for (i, &fx) in forces(3.0, 40, &[0.0; 16]).iter().enumerate() {
+            let status = if transient_before && i + 1 == at {
+                Status::TRANSIENT
+            } else {
+                Status::AMBIGUOUS
+            };
+            let mut rec = record(i, fx, status);
+            if i == at {
+                (rec.handover_z, rec.handover_n) = handover;
+            }
+            if let Some(e) = a.process(&mut st, &rec).event {
+                return Some((i, e.cause));
+            }
+        }
+        None
+    }
+
+    /// The hand-over inside a period (`crate::handover`) decides past HANDOVER_SIGMAS and
+    /// HANDOVER_SHARE of the breakage threshold (`0.2 * 0.2 * 107 N`, 4.3 N), out of a
+    /// steady cut only; the tooth averages themselves unchanged (the rules on them see
+    /// nothing).
+    #[test]
+    fn a_hand_over_inside_the_period_decides_out_of_a_steady_cut() {
+        assert_eq!(first_event_with_handover(165, (0.0, 0.0), false), None);
+        assert_eq!(
+            first_event_with_handover(165, (4.5, 10.0), false),
+            Some((165, Cause::Breakage))
+        );
+        // Within the noise, too small to matter, or after a transient record: none.
+        assert_eq!(first_event_with_handover(165, (3.9, 10.0), false), None);
+        assert_eq!(first_event_with_handover(165, (4.5, 4.0), false), None);
+        assert_eq!(first_event_with_handover(165, (4.5, 10.0), true), None);
     }
 
     /// A flute lost just after the history was forgotten: by the time two revolutions are

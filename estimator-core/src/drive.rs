@@ -575,7 +575,21 @@ impl SpindleModel {
     /// for NaN input, 0 rpm or 0 radius.
     #[inline(always)]
     pub fn tangential_force_n(&self, mean_value: f32, rpm: f32, radius_mm: f32) -> f32 {
-        self.force_above_idle_n(mean_value - self.idle_signal(rpm), rpm, radius_mm)
+        self.tangential_force_and_slope_n(mean_value, rpm, radius_mm)
+            .0
+    }
+
+    /// [`Self::tangential_force_n`] and its slope: the force [N] of one unit of signal
+    /// (one evaluation of the speed-dependent chain for both).
+    #[inline(always)]
+    pub fn tangential_force_and_slope_n(
+        &self,
+        mean_value: f32,
+        rpm: f32,
+        radius_mm: f32,
+    ) -> (f32, f32) {
+        let per_unit = self.force_above_idle_n(1.0, rpm, radius_mm);
+        ((mean_value - self.idle_signal(rpm)) * per_unit, per_unit)
     }
 
     /// Inverse of [`Self::tangential_force_n`] for host-sim: the spindle signal (load [%]

@@ -7,7 +7,8 @@
 //! - [`geometry`], [`coefficients`], [`forward`]: the mechanistic model of paper 000 (eq. 1-9).
 //! - [`estimator`]: immersion ratios from the averages (eq. 10-13), with [`invert`],
 //!   [`poly`] (fitted for the motor route, constants in [`fxt_poly`]) and [`table3`].
-//! - [`tooth`], [`window`]: tooth-synchronous averages, and where their window begins.
+//! - [`tooth`], [`window`]: tooth-synchronous averages, and where their window begins;
+//!   [`handover`]: the chip a broken flute hands on, inside the period.
 //! - [`status`]: what every estimate carries.
 #![no_std]
 
@@ -29,6 +30,7 @@ pub mod fxt_poly_user {
     include!(concat!(env!("OUT_DIR"), "/fxt_poly_user.rs"));
 }
 pub mod geometry;
+pub mod handover;
 pub mod invert;
 pub mod monitor;
 pub mod pipeline;

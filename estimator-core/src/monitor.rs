@@ -5,7 +5,9 @@
 //! `samples -> tooth means -> forces -> filtered forces -> immersion`, per tooth:
 //! 1. [`crate::tooth`] averages the raw channels over each tooth period (per sample: a few
 //!    additions; everything below runs once per tooth), from a boundary that
-//!    [`crate::window`] places where no flute cuts (the encoder pulse, delayed).
+//!    [`crate::window`] places where no flute cuts (the encoder pulse, delayed). Per
+//!    sample too, [`crate::handover`] bins the spindle channel over the period: the chip a
+//!    flute broken inside its cut hands to the next one (`handover_z`, `handover_n`).
 //! 2. The means become forces ([`crate::drive`]): the feed force `F_ax` from the feed-axis
 //!    currents, projected on the feed direction, and the tangential force `F_at` from the
 //!    spindle current or load; or, from a dynamometer, `F_ax` and `F_ay` directly. All
@@ -24,6 +26,7 @@
 use crate::drive::{FeedDrive, SpindleModel};
 use crate::estimator::{Estimate, Estimator, EstimatorConfig, Measured, Method};
 use crate::fmath;
+use crate::handover::{self, Handover, HandoverState};
 use crate::probe::{NoProbe, Probe, Stage};
 use crate::status::Status;
 use crate::tooth::{Period, SyncMode, Timing, ToothState, CHANNELS, LENGTH_CHANGE_SAMPLES};
@@ -194,6 +197,7 @@ impl MonitorConfig {
         if timing.min_period < 2 {
             return Err(OutOfRange("max_rpm"));
         }
+        let handover = Handover::new(n as u8, matches!(self.input, Input::Motor { .. }));
         let boundary = Window {
             align: self.align_window,
             teeth_per_pulse: match self.sync {
@@ -206,6 +210,7 @@ impl MonitorConfig {
             est,
             timing,
             boundary,
+            handover,
             window,
             settle: window.max(2 * n),
             clip_any: self.clip.iter().any(|c| *c < f32::INFINITY),
@@ -273,6 +278,12 @@ pub struct ToothRecord {
     pub status: Status,
     /// What produced `R_r`.
     pub method: Method,
+    /// The chip this tooth took over from the one before inside the period (a flute that
+    /// broke in its cut, see [`crate::handover`]), in standard deviations of its noise;
+    /// 0 where not measured.
+    pub handover_z: f32,
+    /// That hand-over as a change of the tooth-average tangential force [N].
+    pub handover_n: f32,
 }
 
 impl ToothRecord {
@@ -303,12 +314,25 @@ impl ToothRecord {
             self.da_sigma_mm.to_bits(),
             self.status.0 as u32,
             self.method as u32,
+            self.handover_z.to_bits(),
+            self.handover_n.to_bits(),
         ]
     }
 }
 
 /// Length of [`ToothRecord::to_words`].
-pub const RECORD_WORDS: usize = 19;
+pub const RECORD_WORDS: usize = 21;
+
+/// Periods the hand-over stage does not compare across: the tooth alignment or the
+/// forces' level may have moved.
+const NO_HANDOVER: Status = Status(
+    Status::NON_FINITE.0
+        | Status::PERIOD_INVALID.0
+        | Status::NO_SYNC.0
+        | Status::INPUT_FAULT.0
+        | Status::FEED_CHANGE.0
+        | Status::WINDOW_MOVED.0,
+);
 
 /// What one pass over the window gives (see [`Monitor::blocks`]).
 #[derive(Clone, Copy, Debug, Default)]
@@ -350,6 +374,7 @@ struct Entry {
 pub struct MonitorState {
     tooth: ToothState,
     win: WindowState,
+    hand: HandoverState,
     ring: [Entry; MAX_WINDOW],
     /// `rev[i]`: mean of the revolution (`flutes` entries) ending at `ring[i]`, newest
     /// first, made when `ring[i]` was stored. A revolution that reaches back before the
@@ -382,6 +407,7 @@ impl Default for MonitorState {
         MonitorState {
             tooth: ToothState::default(),
             win: WindowState::default(),
+            hand: HandoverState::default(),
             ring: [Entry::default(); MAX_WINDOW],
             rev: [Entry::default(); MAX_WINDOW],
             head: 0,
@@ -439,6 +465,8 @@ pub struct Monitor {
     timing: Timing,
     /// Where the tooth windows begin.
     boundary: Window,
+    /// The chip handed from flute to flute inside the period.
+    handover: Handover,
     window: usize,
     /// Derived once: `settle_teeth()`, `1 / flutes`, `1 / filter_revs`, whether any clip
     /// level is finite (with none, the per-sample clip test is left out).
@@ -509,8 +537,11 @@ impl Monitor {
         let mut p = self
             .timing
             .push_checked(&mut st.tooth, &x, sync, self.clip_any);
-        self.boundary
+        let bin = self
+            .boundary
             .profile(&mut st.win, &x, p.as_ref().map(|p| p.samples));
+        self.handover
+            .sample(&mut st.hand, p.as_ref().map(|p| p.tooth), bin, x[4]);
         if let Some(p) = p.as_mut() {
             if self.boundary.take_moved(&mut st.win) {
                 p.status |= Status::WINDOW_MOVED;
@@ -526,15 +557,52 @@ impl Monitor {
     /// stage's review converts its profile with them too; inlined at both places they
     /// took the firmware over 64 KiB of flash. A call per tooth is the price.
     #[inline(never)]
-    fn forces(&self, m: [f32; CHANNELS], rpm: f32) -> (f32, f32, bool) {
+    /// Also the tangential force of one unit of the spindle signal (0 for a dynamometer).
+    fn forces(&self, m: [f32; CHANNELS], rpm: f32) -> (f32, f32, bool, f32) {
         let [m0, m1, v0, v1, sp] = m;
         match &self.cfg.input {
             Input::Motor { feed, spindle } => {
                 let (fx_n, moving) = feed.feed_force_and_moving([m0, m1], [v0, v1]);
-                let ft_n = spindle.tangential_force_n(sp, rpm, self.cfg.estimator.tool.radius_mm);
-                (fx_n, ft_n, moving)
+                let (ft_n, per_unit_n) = spindle.tangential_force_and_slope_n(
+                    sp,
+                    rpm,
+                    self.cfg.estimator.tool.radius_mm,
+                );
+                (fx_n, ft_n, moving, per_unit_n)
             }
-            Input::Dynamometer => (m0, m1, fmath::hypot(v0, v1) > 0.0),
+            Input::Dynamometer => (m0, m1, fmath::hypot(v0, v1) > 0.0, 0.0),
+        }
+    }
+
+    /// The hand-over into the closed period of `tooth` (see [`crate::handover`]), judged
+    /// `status`: `(z, newtons)`; `per_unit_n`: the tangential force of one unit of the
+    /// spindle signal.
+    #[inline(always)]
+    fn handover(
+        &self,
+        st: &mut MonitorState,
+        tooth: u8,
+        status: Status,
+        per_unit_n: f32,
+    ) -> (f32, f32) {
+        if !self.handover.on {
+            return (0.0, 0.0);
+        }
+        let period = if status.intersects(Status(Status::NOT_CUTTING.0 | Status::WINDOW_MOVED.0)) {
+            handover::Period::Restart
+        } else if status.intersects(NO_HANDOVER) {
+            handover::Period::Unusable
+        } else {
+            handover::Period::Cut {
+                steady: !status.contains(Status::TRANSIENT),
+            }
+        };
+        let (z, amount) = self.handover.measure(&mut st.hand, tooth, period);
+        let n = amount * per_unit_n;
+        if n.is_finite() {
+            (z, n)
+        } else {
+            (0.0, 0.0)
         }
     }
 
@@ -594,7 +662,7 @@ impl Monitor {
         let [_, _, v0, v1, _] = p.mean;
         let speed = crate::fmath::hypot(v0, v1);
         let tc_mm = speed / (n as f32 * rpm);
-        let (fx_n, f2_n, moving) = self.forces(p.mean, rpm);
+        let (fx_n, f2_n, moving, per_unit_n) = self.forces(p.mean, rpm);
         probe.mark(Stage::Forces);
         let finite = [
             rpm.is_finite(),
@@ -613,8 +681,9 @@ impl Monitor {
             moving,
         };
         let (status, e) = self.judge(st, p.status, &means, probe);
+        let (handover_z, handover_n) = self.handover(st, p.tooth, status, per_unit_n);
         self.boundary.review(&mut st.win, status, |[a, b, c]| {
-            let (fx, f2, _) = self.forces([a, b, v0, v1, c], rpm);
+            let (fx, f2, _, _) = self.forces([a, b, v0, v1, c], rpm);
             fx * fx + f2 * f2
         });
         // The immersion fields are 0 unless the record is valid.
@@ -659,6 +728,8 @@ impl Monitor {
                     da_sigma_mm: imm[5],
                     status,
                     method,
+                    handover_z,
+                    handover_n,
                 }
             };
         }

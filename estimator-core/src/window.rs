@@ -155,21 +155,22 @@ impl Window {
 
     /// Adds a sample to the profile, after the tooth stage has seen it (`closed`: the
     /// sample opened a new period, of which `last_len` is the previous one's length).
+    /// Returns the sample's bin in the open period (bins of the previous period's length;
+    /// the last bin takes a longer period's excess).
     #[inline(always)]
-    pub fn profile(&self, st: &mut WindowState, x: &[f32; CHANNELS], closed: Option<u32>) {
+    pub fn profile(&self, st: &mut WindowState, x: &[f32; CHANNELS], closed: Option<u32>) -> usize {
         if let Some(len) = closed {
             st.pos = 0;
             st.bin_step = ((PROFILE_BINS as u32) << 16) / len.max(1);
         }
         let pos = st.pos;
         st.pos = pos.saturating_add(1);
+        let bin = (((pos as u64 * st.bin_step as u64) >> 16) as usize).min(PROFILE_BINS - 1);
         if !st.learning {
-            return;
+            return bin;
         }
-        let bin = ((pos as u64 * st.bin_step as u64) >> 16) as usize;
         let v = [x[0], x[1], x[4]];
         if (v[0] + v[1] + v[2]).is_finite() {
-            let bin = bin.min(PROFILE_BINS - 1);
             if let (Some(p), Some(n)) = (st.prof.get_mut(bin), st.prof_n.get_mut(bin)) {
                 p[0] += v[0];
                 p[1] += v[1];
@@ -177,6 +178,7 @@ impl Window {
                 *n += 1;
             }
         }
+        bin
     }
 
     /// Whether the period closing now is the first under a moved boundary (then cleared).

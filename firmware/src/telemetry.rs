@@ -15,28 +15,32 @@
 //! ```
 //!
 //! One kind for now, [`KIND_RECORD`]: one tooth record and the alarm state after it,
-//! P = [`RECORD_PAYLOAD_WORDS`] = 29, 132 bytes a frame:
+//! P = [`RECORD_PAYLOAD_WORDS`] = 31, 140 bytes a frame:
 //!
 //! ```text
-//! 0..19   ToothRecord::to_words(): every field's bits (end_sample lo/hi, tooth, samples,
+//! 0..21   ToothRecord::to_words(): every field's bits (end_sample lo/hi, tooth, samples,
 //!         rpm, tc_mm, fx_n, f2_n, fx_filt_n, f2_filt_n, tc_filt_mm, rr, ra, dr_mm, da_mm,
-//!         dr_sigma_mm, da_sigma_mm, status, method)
-//! 19      record index: records produced since start, sent or not (decimation shows here)
-//! 20      sample rate [Hz], f32 bits (end_sample / rate is the record's time)
-//! 21      alarm: bit 0 latched (the output to the CNC is dropped), bit 1 wear warning,
+//!         dr_sigma_mm, da_sigma_mm, status, method, handover_z, handover_n)
+//! 21      record index: records produced since start, sent or not (decimation shows here)
+//! 22      sample rate [Hz], f32 bits (end_sample / rate is the record's time)
+//! 23      alarm: bit 0 latched (the output to the CNC is dropped), bit 1 wear warning,
 //!         bit 2 this record raised an event, bits 8-15 its cause (1 breakage, 2 tool gone,
 //!         3 overload, 4 teach-in excursion, 5 wear)
-//! 22, 23  the event's value and threshold, f32 bits (0 without an event)
-//! 24      wear multiplier, f32 bits
-//! 25..29  counters since start: samples lost (ADC ring overruns), sync edges late, sync
+//! 24, 25  the event's value and threshold, f32 bits (0 without an event)
+//! 26      wear multiplier, f32 bits
+//! 27..31  counters since start: samples lost (ADC ring overruns), sync edges late, sync
 //!         edges dropped, frames dropped (telemetry queue full)
+//!
+//! Format 2 (this one) added `handover_z`, `handover_n` to the record; format 1 frames
+//! (29 payload words) are skipped and counted as another format.
 //! ```
 //!
 //! The words are the record's exact bits, so a decoded stream equals host-sim's replay bit
 //! for bit. The decoder resynchronises on the magic word after garbage or a bad CRC and
 //! counts what it skipped, the frames that failed their CRC and the sequence gaps: nothing
-//! lost on the wire goes unseen. CRC-32 by a 256-entry table (1 KiB of flash, about 7
-//! instructions per byte) rather than bit by bit (about 40).
+//! lost on the wire goes unseen. CRC-32 by a 16-entry table, a nibble at a time (64 bytes
+//! of flash, about 12 instructions per byte), rather than a 256-entry one (1 KiB, about
+//! 7) or bit by bit (about 40): the flash budget is the tight one.
 
 use estimator_core::alarm::Cause;
 use estimator_core::monitor::RECORD_WORDS;
@@ -45,7 +49,7 @@ use estimator_core::{Method, Status, ToothRecord};
 /// First word of every frame: the bytes `TMON`.
 pub const MAGIC: u32 = u32::from_le_bytes(*b"TMON");
 /// Format of this layout; a decoder skips (and counts) frames of another format.
-pub const FORMAT: u8 = 1;
+pub const FORMAT: u8 = 2;
 /// Frame kind: a tooth record with the alarm state.
 pub const KIND_RECORD: u8 = 1;
 /// Words before the payload: magic, format/kind/length, sequence.
@@ -165,6 +169,8 @@ pub fn record_from_words(w: &[u32; RECORD_WORDS]) -> Option<ToothRecord> {
         da_sigma_mm: f(16),
         status: Status(w[17] as u16),
         method,
+        handover_z: f(19),
+        handover_n: f(20),
     })
 }
 
@@ -250,13 +256,15 @@ impl RecordFrame {
     }
 }
 
-const CRC_TABLE: [u32; 256] = {
-    let mut t = [0u32; 256];
+/// The CRC of each nibble: 64 bytes of flash where a byte table takes 1 KiB (the board's
+/// flash is the tighter budget; the telemetry task has time to spare).
+const CRC_TABLE: [u32; 16] = {
+    let mut t = [0u32; 16];
     let mut i = 0;
-    while i < 256 {
+    while i < 16 {
         let mut c = i as u32;
         let mut k = 0;
-        while k < 8 {
+        while k < 4 {
             c = if c & 1 != 0 {
                 0xEDB8_8320 ^ (c >> 1)
             } else {
@@ -270,11 +278,13 @@ const CRC_TABLE: [u32; 256] = {
     t
 };
 
-/// CRC-32 (IEEE 802.3, as zlib's `crc32`).
+/// CRC-32 (IEEE 802.3, as zlib's `crc32`), a nibble at a time.
 pub fn crc32(bytes: &[u8]) -> u32 {
     let mut c = 0xFFFF_FFFFu32;
     for &b in bytes {
-        c = CRC_TABLE[((c ^ b as u32) & 0xFF) as usize] ^ (c >> 8);
+        c ^= b as u32;
+        c = CRC_TABLE[(c & 0xF) as usize] ^ (c >> 4);
+        c = CRC_TABLE[(c & 0xF) as usize] ^ (c >> 4);
     }
     !c
 }
@@ -386,6 +396,8 @@ mod tests {
                 dr_mm: 4.0,
                 status: Status::TRANSIENT | Status::SETTLING,
                 method: Method::Inversion,
+                handover_z: 4.5,
+                handover_n: f32::from_bits(0x4120_0001),
                 ..ToothRecord::default()
             },
             alarm: AlarmFields {

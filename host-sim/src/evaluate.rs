@@ -845,5 +845,5 @@ pub const MIN_WEAR_DETECTION: f64 = 0.9;
 pub const MIN_BREAK_DETECTION: f64 = 0.9;
 
 /// Share of full breakages `--check` requires caught within one revolution of the first
-/// missed cut (the small set: 10 of 10 at seed 1; the full set 92-95 % at seeds 1-5).
+/// missed cut (the small set: 10 of 10 at seed 1; the full set 92-98 % at seeds 1-5).
 pub const MIN_BREAK_WITHIN_REV: f64 = 0.75;

@@ -14,7 +14,7 @@ use std::io::{Read, Write};
 use crate::trace::Truth;
 
 /// Columns of every records file, in order.
-pub const COLUMNS: [&str; 18] = [
+pub const COLUMNS: [&str; 20] = [
     "time_s",
     "tooth",
     "samples",
@@ -33,6 +33,8 @@ pub const COLUMNS: [&str; 18] = [
     "da_sigma_mm",
     "status",
     "method",
+    "handover_z",
+    "handover_n",
 ];
 
 /// Columns appended when the trace has ground truth: the truth at the record's end sample.
@@ -106,6 +108,8 @@ impl<W: Write> RecordWriter<W> {
             r.da_sigma_mm.to_string(),
             r.status.to_string(),
             r.method.name().to_string(),
+            r.handover_z.to_string(),
+            r.handover_n.to_string(),
         ];
         if self.with_truth {
             f.extend([
@@ -136,7 +140,7 @@ pub struct RecordReader<R: Read> {
     rd: csv::Reader<R>,
     name: String,
     /// Index of each of [`COLUMNS`] then [`TRUTH_COLUMNS`] in the file.
-    at: [usize; 18],
+    at: [usize; 20],
     truth_at: Option<[usize; 3]>,
     fields: usize,
     rec: csv::StringRecord,
@@ -246,6 +250,8 @@ impl<R: Read> RecordReader<R> {
             da_sigma_mm: self.num(15)?,
             status,
             method,
+            handover_z: self.num(18)?,
+            handover_n: self.num(19)?,
         };
         let truth = match self.truth_at {
             None => None,

@@ -336,7 +336,8 @@ fn records_csv_round_trips() {
     let text = String::from_utf8(out).expect("utf8");
     assert!(text.starts_with(
         "time_s,tooth,samples,rpm,tc_mm,fx_n,f2_n,fx_filt_n,f2_filt_n,tc_filt_mm,rr,ra,dr_mm,\
-         da_mm,dr_sigma_mm,da_sigma_mm,status,method,true_dr_mm,true_da_mm,true_tc_mm\n"
+         da_mm,dr_sigma_mm,da_sigma_mm,status,method,handover_z,handover_n,true_dr_mm,true_da_mm,\
+         true_tc_mm\n"
     ));
     // A bad status is named.
     let bad = text.replacen(",valid,", ",broken,", 1);

@@ -1,0 +1,425 @@
+//! The chip a broken flute hands to the next one, seen inside the tooth period.
+//!
+//! # Why
+//! A flute that breaks late in its cut has already cut most of its chip: its tooth average
+//! loses 5-20 % of a tooth's force, and the next flute, which cuts what the broken one left,
+//! gains as much. On tooth averages that is 2-4 standard deviations of 3 % noise; the
+//! rules on them ([`crate::alarm`]) see the break only when the broken flute comes round
+//! and misses its whole cut, more than a revolution after the damage. Inside the period the
+//! loss is concentrated: after the break angle the broken flute cuts nothing, and at the
+//! same angles, a pitch later, the next flute cuts a double chip. Summed over those angles
+//! alone, the same change stands out of the noise of a few bins instead of a whole period.
+//!
+//! # Measure
+//! Per sample, the spindle channel (tangential force, raw units) into [`BINS`] bins of the
+//! open tooth period (the window stage's positions: bins of the previous period's length).
+//! When a period closes, each bin's mean minus the same tooth's one revolution earlier is
+//! the change `c_b`; its suffix sums `S(b) = sum_{b' >= b} c_b' / BINS` are the change of
+//! the tooth average from the angles of bin `b` to the end of the period. A flute broken in
+//! bin `b` gives `S_{k-1}(b) = -L` in its own period and `S_k(b) = +L` in the next one.
+//! The hand-over at bin `b` is `min(-S_{k-1}(b), S_k(b))`: both a loss and the matching
+//! gain, so that an exit (every tooth loses) or an entry (every tooth gains) is not one.
+//! In units of its noise `sigma(b)` (each suffix sum's running spread over steady periods,
+//! so that sensor noise, encoder jitter at steep edges and the drive's lag are all in it),
+//! the largest over `b` is the record's `handover_z`; that hand-over in newtons is
+//! `handover_n`. The alarm stage decides (a number of sigmas, and a share of the force the
+//! engagement predicts).
+//!
+//! Only between usable periods in tooth order (no lost pulse, moved window, feed change,
+//! bad data or air: any of them forgets every tooth's profile), only after `N + 1` steady
+//! periods in a row (no transient: entries and exits change every tooth), and after
+//! [`WARM_TEETH`] steady periods of noise figures. Motor input only (the spindle current is
+//! the tangential force), tools of up to [`MAX_TEETH`] flutes (0.5 KiB of state less than 16).
+
+use crate::fmath;
+use crate::window::PROFILE_BINS;
+
+/// Bins of a tooth period (the window stage's bins).
+pub const BINS: usize = PROFILE_BINS;
+/// Most flutes measured (beyond: `handover_z` is 0).
+pub const MAX_TEETH: usize = 8;
+/// Steady periods of noise figures before a hand-over is measured; also the memory of the
+/// running spread (weight `1 / WARM_TEETH`).
+pub const WARM_TEETH: u16 = 32;
+/// After the warm-up a suffix sum counts into its spread at most this many variances
+/// (3 sigma): the break itself must not widen the spread it is judged against.
+const CLIP_VARIANCES: f32 = 9.0;
+/// `handover_z` never exceeds this (a noise-free signal has a spread of 0).
+pub const MAX_Z: f32 = 1.0e6;
+
+/// The stage, derived once from the monitor's configuration.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Handover {
+    /// Measured at all (motor input, `2..=MAX_TEETH` flutes).
+    pub on: bool,
+    /// Teeth per revolution.
+    pub teeth: u8,
+}
+
+/// Running state: about 0.8 KiB.
+#[derive(Clone, Copy, Debug)]
+pub struct HandoverState {
+    /// The open period: per bin, the sum of the spindle channel and the samples summed.
+    acc: [f32; BINS],
+    cnt: [u16; BINS],
+    /// Per tooth, the bin means of its last period.
+    last: [[f32; BINS]; MAX_TEETH],
+    /// Bit `i`: `last[i]` holds a usable period since the last forget.
+    filled: u8,
+    /// The closed period: per bin, its mean minus the same tooth's one revolution earlier;
+    /// `change_ok`: that earlier period was usable.
+    change: [f32; BINS],
+    change_ok: bool,
+    /// Suffix sums of the previous period's change (`prev_ok`: it had one).
+    prev: [f32; BINS],
+    prev_ok: bool,
+    /// Usable, steady periods in a row, and the tooth index of the last period.
+    streak: u8,
+    last_tooth: u8,
+    /// Running mean square of each suffix sum over steady periods, and periods in it.
+    var: [f32; BINS],
+    var_count: u16,
+}
+
+impl Default for HandoverState {
+    fn default() -> Self {
+        HandoverState {
+            acc: [0.0; BINS],
+            cnt: [0; BINS],
+            last: [[0.0; BINS]; MAX_TEETH],
+            filled: 0,
+            change: [0.0; BINS],
+            change_ok: false,
+            prev: [0.0; BINS],
+            prev_ok: false,
+            streak: 0,
+            last_tooth: 0,
+            var: [0.0; BINS],
+            var_count: 0,
+        }
+    }
+}
+
+/// What the monitor tells the stage about a closed period.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Period {
+    /// Lost pulse, moved window, feed change, bad data: tooth profiles are forgotten.
+    Unusable,
+    /// No cut, or the window moved: the noise figures are forgotten too (the next cut may
+    /// be another; under a new alignment the steep edges of the cut, where encoder jitter
+    /// makes most of the noise, fall in other bins).
+    Restart,
+    /// A cut.
+    Cut {
+        /// Not transient (entries and exits change every tooth).
+        steady: bool,
+    },
+}
+
+impl Handover {
+    /// The stage for a tool of `flutes`; `motor`: the spindle channel is a current or load.
+    pub fn new(flutes: u8, motor: bool) -> Self {
+        Handover {
+            on: motor && (2..=MAX_TEETH as u8).contains(&flutes),
+            teeth: flutes,
+        }
+    }
+
+    /// One sample of the spindle channel in `bin` of the open period; `closed`: the sample
+    /// opened a new period and the one before, of tooth index `closed`, is complete.
+    #[inline(always)]
+    pub fn sample(&self, st: &mut HandoverState, closed: Option<u8>, bin: usize, x: f32) {
+        if !self.on {
+            return;
+        }
+        if let Some(tooth) = closed {
+            self.close(st, tooth);
+        }
+        if let (Some(a), Some(c)) = (st.acc.get_mut(bin), st.cnt.get_mut(bin)) {
+            *a += x;
+            *c = c.saturating_add(1);
+        }
+    }
+
+    /// The period of `tooth` is complete: its bin means against the same tooth's one
+    /// revolution earlier, which they replace.
+    #[inline(never)]
+    fn close(&self, st: &mut HandoverState, tooth: u8) {
+        let slot = tooth as usize;
+        match st.last.get_mut(slot) {
+            Some(last) => {
+                // A period shorter than the one its bins were sized by leaves its last
+                // bin (at a jittered pulse, most periods) without a sample: it holds the
+                // mean of the bin before. Bin 0 always has the period's first sample.
+                let mut mean = f32::NAN;
+                for ((c, l), (&a, &k)) in st
+                    .change
+                    .iter_mut()
+                    .zip(last.iter_mut())
+                    .zip(st.acc.iter().zip(&st.cnt))
+                {
+                    if k > 0 {
+                        mean = a / k as f32;
+                    }
+                    *c = mean - *l;
+                    *l = mean;
+                }
+                st.change_ok = st.filled & (1 << slot) != 0;
+            }
+            None => st.change_ok = false,
+        }
+        st.acc = [0.0; BINS];
+        st.cnt = [0; BINS];
+    }
+
+    /// After the monitor has judged the closed period of `tooth`: the hand-over into it
+    /// from the period before, `(z, amount)` (the amount in the spindle channel's units of
+    /// a tooth average; `(0, 0)` where it is not measured). Updates the noise figures.
+    ///
+    /// Out of line: once a tooth, one pass over the bins.
+    #[inline(never)]
+    pub fn measure(&self, st: &mut HandoverState, tooth: u8, period: Period) -> (f32, f32) {
+        if !self.on {
+            return (0.0, 0.0);
+        }
+        let n = self.teeth as usize;
+        let in_order = tooth as usize == (st.last_tooth as usize + 1) % n;
+        st.last_tooth = tooth;
+        let steady = match period {
+            Period::Cut { steady } if in_order => steady,
+            _ => {
+                // Tooth alignment or the cut itself is lost: nothing compares across it.
+                st.filled = 0;
+                st.streak = 0;
+                st.prev_ok = false;
+                if period == Period::Restart {
+                    st.var_count = 0;
+                }
+                return (0.0, 0.0);
+            }
+        };
+        st.filled |= 1u8.wrapping_shl(tooth as u32);
+        let ok = st.change_ok;
+        // Decided on the periods before this one all steady: `N + 1` of them (this one's
+        // and the last one's revolution-old partners, and the last one).
+        let decide = ok && st.prev_ok && st.streak as usize > n && st.var_count >= WARM_TEETH;
+        let learn = ok && steady;
+        // A plain mean over the first WARM_TEETH, exponential after, and clipped after.
+        if learn {
+            st.var_count = st.var_count.saturating_add(1);
+        }
+        // As factors, not branches: a loop-invariant branch inside the loop below would
+        // have the compiler copy the loop for each case (flash).
+        let gate = if decide { 1.0 } else { 0.0 };
+        let w = if learn {
+            1.0 / fmath::min(st.var_count as f32, WARM_TEETH as f32)
+        } else {
+            0.0
+        };
+        let clip = if st.var_count > WARM_TEETH {
+            CLIP_VARIANCES
+        } else {
+            f32::INFINITY
+        };
+        // One pass, last bin first: the suffix sum, the hand-over against the previous
+        // period's (the largest `m / sigma` without a division or root per bin:
+        // `m_b^2 v_best > m_best^2 v_b`), the spread, the suffix sum kept for the next
+        // period. (Left a loop by the compiler, 0.6 KiB of flash; `close`'s shorter body is
+        // unrolled, 0.8 KiB.)
+        let (mut m_best, mut v_best) = (0.0f32, 1.0f32);
+        let mut sum = 0.0f32;
+        for ((p, &c), v) in st
+            .prev
+            .iter_mut()
+            .zip(&st.change)
+            .zip(st.var.iter_mut())
+            .rev()
+        {
+            sum += c * (1.0 / BINS as f32);
+            // (Plain compares, not `fmath::min`'s NaN rule: NaN only comes with data
+            // the monitor flags, and then `gate` is 0 and nothing is learned.)
+            let m = gate * if -*p < sum { -*p } else { sum };
+            if m > 0.0 && m * m * v_best > m_best * m_best * *v {
+                (m_best, v_best) = (m, *v);
+            }
+            // (`cap` is NaN for v = 0 before the warm-up ends: the compare takes `x`.)
+            let x = sum * sum;
+            let cap = clip * *v;
+            if x.is_finite() {
+                *v += w * (if x > cap { cap } else { x } - *v);
+            }
+            *p = sum;
+        }
+        let ok = ok && sum.is_finite();
+        let out = if m_best > 0.0 {
+            let z = if v_best > 0.0 {
+                m_best / libm::sqrtf(v_best)
+            } else {
+                MAX_Z
+            };
+            (fmath::min(z, MAX_Z), m_best)
+        } else {
+            (0.0, 0.0)
+        };
+        st.streak = if steady {
+            st.streak.saturating_add(1)
+        } else {
+            0
+        };
+        st.prev_ok = ok;
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    //! Per-sample spindle signals made here, the hand-over computed from them directly.
+    #![allow(clippy::unwrap_used)]
+    use super::*;
+    use std::vec::Vec;
+
+    const N: u8 = 3;
+    /// Samples a tooth period.
+    const LEN: usize = 48;
+    /// The flute cuts the first `CUT` samples of its period (the window begins in the gap).
+    const CUT: usize = 40;
+
+    /// One flute's signal at sample `i` of its cut: a down-milling chip, thickest first.
+    fn flute(i: usize) -> f32 {
+        if i < CUT {
+            10.0 * (1.0 - i as f32 / CUT as f32) + 2.0
+        } else {
+            0.0
+        }
+    }
+
+    /// Uniform noise of standard deviation `sigma`, deterministic.
+    struct Noise(u32, f32);
+    impl Noise {
+        fn next(&mut self) -> f32 {
+            self.0 ^= self.0 << 13;
+            self.0 ^= self.0 >> 17;
+            self.0 ^= self.0 << 5;
+            (self.0 as f32 / u32::MAX as f32 - 0.5) * 2.0 * 1.732 * self.1
+        }
+    }
+
+    /// Feeds periods (tooth `k % N`, its samples) through the stage the way the monitor
+    /// does (bins of the previous period's length), every one a steady cut unless listed in
+    /// `unusable`; `(z, amount)` of each closed period.
+    fn run(periods: &[Vec<f32>], unusable: &[usize]) -> Vec<(f32, f32)> {
+        let h = Handover::new(N, true);
+        let mut st = HandoverState::default();
+        let mut out = Vec::new();
+        let mut step = 0u32;
+        for (k, p) in periods.iter().enumerate() {
+            for (pos, &x) in p.iter().enumerate() {
+                let closed = (pos == 0 && k > 0).then(|| ((k - 1) % N as usize) as u8);
+                if pos == 0 && k > 0 {
+                    step = ((BINS as u32) << 16) / periods[k - 1].len() as u32;
+                }
+                let bin = (((pos as u64 * step as u64) >> 16) as usize).min(BINS - 1);
+                h.sample(&mut st, closed, bin, x);
+                if let Some(t) = closed {
+                    let period = if unusable.contains(&(k - 1)) {
+                        Period::Unusable
+                    } else {
+                        Period::Cut { steady: true }
+                    };
+                    out.push(h.measure(&mut st, t, period));
+                }
+            }
+        }
+        out
+    }
+
+    /// `revs` revolutions of a steady cut, flute 0 cutting 30 % more (runout), noise
+    /// `sigma` per sample, period lengths jittering by a sample.
+    fn steady(revs: usize, sigma: f32) -> Vec<Vec<f32>> {
+        let mut noise = Noise(0x2545_f491, sigma);
+        (0..revs * N as usize)
+            .map(|k| {
+                let len = LEN + k % 3 - 1;
+                let gain = if k % N as usize == 0 { 1.3 } else { 1.0 };
+                (0..len).map(|i| gain * flute(i) + noise.next()).collect()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_flute_broken_late_in_its_cut_hands_its_chip_to_the_next() {
+        let sigma = 1.0;
+        let mut p = steady(40, sigma);
+        // Flute 1 (period 61) breaks at sample 28 of its cut: it cuts nothing after; flute
+        // 2 (period 62) cuts a double chip at the same angles, and the next revolution
+        // flute 1 cuts nothing at all.
+        let at = 28;
+        let k = 61;
+        assert_eq!(k % N as usize, 1);
+        for i in at..p[k].len() {
+            p[k][i] -= flute(i);
+        }
+        for i in at..p[k + 1].len() {
+            p[k + 1][i] += flute(i);
+        }
+        let out = run(&p, &[]);
+        // The hand-over, computed from the profile: the lost samples' share of the period.
+        let lost: f32 = (at..LEN).map(flute).sum::<f32>() / LEN as f32;
+        // Under the tooth-average rules' threshold (20 % of the tooth's force), and under
+        // 5 sigma of a tooth average's change from one revolution earlier:
+        let tooth: f32 = (0..LEN).map(flute).sum::<f32>() / LEN as f32;
+        assert!(lost < 0.2 * tooth, "{lost} of {tooth}");
+        assert!(lost < 5.0 * sigma * (2.0 / LEN as f32).sqrt(), "{lost}");
+        let (z, amount) = out[k + 1];
+        assert!(z > 5.0, "z {z}");
+        assert!(
+            (amount - lost).abs() < 0.25 * lost,
+            "{amount} against {lost}"
+        );
+        // Nothing before it passes 4 sigma: steady runout, noise, jittered lengths.
+        let before = out[..k].iter().map(|o| o.0).fold(0.0, f32::max);
+        assert!(before < 4.0, "{before}");
+        assert!(out.iter().all(|o| o.0.is_finite() && o.1.is_finite()));
+    }
+
+    #[test]
+    fn an_exit_and_an_entry_are_no_hand_over() {
+        // Every tooth loses (an exit: the arc's far end leaves the work first) or gains (an
+        // entry) a growing share of its late samples, revolution by revolution: the loss
+        // in one period is never matched by a gain in the next.
+        for sign in [-1.0f32, 1.0] {
+            let mut p = steady(60, 0.0);
+            for (k, per) in p.iter_mut().enumerate().skip(90) {
+                let from = CUT - ((k - 90) / 2).min(CUT - 1);
+                for (i, x) in per.iter_mut().enumerate().skip(from) {
+                    *x += sign * 0.5 * flute(i);
+                }
+            }
+            let out = run(&p, &[]);
+            assert!(out.iter().all(|o| o.0 == 0.0), "sign {sign}");
+        }
+    }
+
+    #[test]
+    fn nothing_is_compared_across_an_unusable_period() {
+        let mut p = steady(40, 1.0);
+        let k = 61;
+        for i in 30..p[k].len() {
+            p[k][i] -= flute(i);
+        }
+        for i in 30..p[k + 1].len() {
+            p[k + 1][i] += flute(i);
+        }
+        // The period before the break lost its pulse: the N + 1 after it are not measured.
+        let out = run(&p, &[k - 1]);
+        assert!(out[k..k + N as usize + 1].iter().all(|o| *o == (0.0, 0.0)));
+        assert!(run(&p, &[])[k + 1].0 > 5.0);
+    }
+
+    #[test]
+    fn off_beyond_max_teeth_and_for_a_dynamometer() {
+        assert!(!Handover::new(MAX_TEETH as u8 + 1, true).on);
+        assert!(!Handover::new(4, false).on);
+        assert!(Handover::new(MAX_TEETH as u8, true).on);
+    }
+}
