@@ -324,14 +324,13 @@ impl ToothRecord {
 pub const RECORD_WORDS: usize = 21;
 
 /// Periods the hand-over stage does not compare across: the tooth alignment or the
-/// forces' level may have moved.
+/// forces' level may have moved (an air cut or a moved window restarts it altogether).
 const NO_HANDOVER: Status = Status(
     Status::NON_FINITE.0
         | Status::PERIOD_INVALID.0
         | Status::NO_SYNC.0
         | Status::INPUT_FAULT.0
-        | Status::FEED_CHANGE.0
-        | Status::WINDOW_MOVED.0,
+        | Status::FEED_CHANGE.0,
 );
 
 /// What one pass over the window gives (see [`Monitor::blocks`]).
@@ -556,8 +555,9 @@ impl Monitor {
     /// Out of line: the two drive models are about 2 KiB of Cortex-M code, and the window
     /// stage's review converts its profile with them too; inlined at both places they
     /// took the firmware over 64 KiB of flash. A call per tooth is the price.
-    #[inline(never)]
+    ///
     /// Also the tangential force of one unit of the spindle signal (0 for a dynamometer).
+    #[inline(never)]
     fn forces(&self, m: [f32; CHANNELS], rpm: f32) -> (f32, f32, bool, f32) {
         let [m0, m1, v0, v1, sp] = m;
         match &self.cfg.input {
@@ -585,9 +585,6 @@ impl Monitor {
         status: Status,
         per_unit_n: f32,
     ) -> (f32, f32) {
-        if !self.handover.on {
-            return (0.0, 0.0);
-        }
         let period = if status.intersects(Status(Status::NOT_CUTTING.0 | Status::WINDOW_MOVED.0)) {
             handover::Period::Restart
         } else if status.intersects(NO_HANDOVER) {
