@@ -79,7 +79,7 @@ step cargo test --workspace -- --ignored
 # --- the user's commands, end to end ---------------------------------------------------------
 # README's demo, and the alarm evaluation on CI's small set (its --check fails on a false
 # alarm in any set, a missed overload or teach-in excursion, fewer than 90 % of wear
-# warnings, fewer than 90 % of full breakages caught or fewer than 75 % within one
+# warnings, fewer than 90 % of full breakages caught or fewer than 90 % within one
 # revolution).
 step cargo run --release -p host-sim -- demo --out-dir target/demo-ci
 step cargo run --release -p host-sim -- evaluate-alarms --set small --check

@@ -46,6 +46,19 @@
 //!     bins alone. Decided past `HANDOVER_SIGMAS` (4) and `HANDOVER_SHARE` (0.2) of the
 //!     threshold `k F_expected`, out of a steady cut (the record before not transient),
 //!     with the resultant watched (the spindle signal resolves teeth).
+//!   - the drop trip inside the next period ([`crate::handover`]): a flute broken late
+//!     in its cut is certain only when it comes round; its period's samples so far lose
+//!     more than [`TRIP_SHARE`] (half) of the tooth's force one revolution earlier (and
+//!     6 sigma_R) before the flute reaches its break angle again. Armed after a record
+//!     out of a steady cut (not transient, the noise figure settled, no alarm latched),
+//!     with no run of the newest `j <= N` teeth that lost more than `3 sqrt(j)
+//!     sigma_R` together (an exit's teeth all lose, the newest most, and its first tooth
+//!     loses at most about a third: the far reach of the arc, the thickest chip, leaves
+//!     first; a broken flute's loss is followed by the next flute's gain), and feeds
+//!     per tooth up to [`TRIP_MAX_TC_PER_R`] of the radius (beyond, an exit's second
+//!     tooth can lose half). The trip latches the output at once; the records after it
+//!     name the cause: a rule that raises on them, else after [`TRIP_NAMED_WITHIN`]
+//!     records a lost tool if the last two teeth collapsed, a breakage otherwise.
 //!   - two teeth in a row fallen below [`GONE_SHARE`] of their force one revolution
 //!     earlier raise no breakage: nothing cuts (a lost tool, whose flutes of unequal
 //!     runout fall by unequal amounts and swing `E` both ways, or an exit's end).
@@ -445,6 +458,11 @@ pub struct AlarmState {
     /// Records left in which a steady cut resumes after the tooth history was forgotten
     /// (see [`Alarms::flute_missing`]); 0: not resuming.
     resumed: u8,
+    /// The drop trip's noise floor for the next period [N] (`INFINITY`: not armed).
+    trip_floor_n: f32,
+    /// A drop trip that latched the output: `(lost, limit)` [N] and the records left
+    /// before it is named a breakage.
+    trip: Option<(f32, f32, u8)>,
 }
 
 impl Default for AlarmState {
@@ -477,6 +495,8 @@ impl Default for AlarmState {
             prev_steady: false,
             prev_dead: false,
             resumed: 0,
+            trip_floor_n: f32::INFINITY,
+            trip: None,
         }
     }
 }
@@ -516,6 +536,19 @@ const HANDOVER_SIGMAS: f32 = 4.0;
 /// a hand-over too small to matter (a very quiet signal) is not a breakage.
 const HANDOVER_SHARE: f32 = 0.2;
 
+/// The drop trip inside a period ([`crate::handover`]): the open period's bins so far
+/// have lost this share of the tooth's whole force one revolution earlier.
+pub const TRIP_SHARE: f32 = 0.5;
+/// ... armed only when the revolution before it changed by at most this many standard
+/// deviations of its sum (`sqrt(N) sigma_R`).
+const TRIP_QUIET_SIGMAS: f32 = 3.0;
+/// ... and only where the feed per tooth is at most this share of the radius: beyond, the
+/// second tooth of an exit through a face can lose half its force.
+pub const TRIP_MAX_TC_PER_R: f32 = 0.06;
+/// A trip is named by the rules on the records after it, or after this many records: a
+/// lost tool leaves the tripped period partly cut and the two after it empty.
+pub const TRIP_NAMED_WITHIN: u8 = 3;
+
 /// A single `E` beyond this multiple of the threshold raises a breakage by itself.
 const SINGLE_EXCEEDANCE: f32 = 3.0;
 
@@ -537,6 +570,28 @@ impl AlarmState {
     /// The latched alarm, if any.
     pub fn latched(&self) -> Option<&AlarmEvent> {
         self.latched.as_ref()
+    }
+
+    /// The drop trip's noise floor for the period after the last record [N]; `INFINITY`
+    /// where it is not armed.
+    pub fn trip_floor_n(&self) -> f32 {
+        self.trip_floor_n
+    }
+
+    /// The output to the CNC is latched: an alarm, or a drop trip whose cause the next
+    /// records name.
+    pub fn output_latched(&self) -> bool {
+        self.latched.is_some() || self.trip.is_some()
+    }
+
+    /// The cause the output shows: the latched alarm's, or a breakage while a drop trip
+    /// waits for its name (a lost tool is named so within three records).
+    pub fn output_cause(&self) -> Option<Cause> {
+        match (&self.latched, self.trip) {
+            (Some(e), _) => Some(e.cause),
+            (None, Some(_)) => Some(Cause::Breakage),
+            (None, None) => None,
+        }
     }
 
     /// Ring index of the `k`-th most recent tooth (0 = newest).
@@ -929,6 +984,27 @@ impl Alarms {
             }
         }
 
+        // The drop trip for the next period: out of a steady cut with a settled noise
+        // figure, the revolution before unchanged as a whole (an exit's teeth all lose).
+        st.trip_floor_n = f32::INFINITY;
+        if let (true, Some(_)) = (
+            self.cfg.breakage.enabled
+                && deciding
+                && st.latched.is_none()
+                && st.trip.is_none()
+                && !rec.status.contains(Status::TRANSIENT)
+                && st.e_count as usize >= (2 * n).max(SETTLED_E)
+                && self.cfg.breakage.signal == BreakageSignal::Resultant,
+            rev_change,
+        ) {
+            let var_r = 0.5 * st.e_var;
+            if rec.tc_mm <= TRIP_MAX_TC_PER_R * self.est.tool.radius_mm
+                && self.no_recent_loss(st, TRIP_QUIET_SIGMAS * TRIP_QUIET_SIGMAS * var_r)
+            {
+                st.trip_floor_n = FIRST_TOOTH_SIGMAS * libm::sqrtf(var_r);
+            }
+        }
+
         probe.mark(Stage::AlarmBreakage);
 
         // --- tool gone ----------------------------------------------------------------
@@ -1075,15 +1151,41 @@ impl Alarms {
         // Built by one struct expression, straight into the caller's place (an
         // `AlarmOutput` is 96 bytes: built in a local and returned, it is copied by a
         // `memcpy` call).
+        // A drop trip inside a period latched the output; its cause is named by the rules
+        // on the records after it (two empty teeth: the tool is gone), a breakage when none
+        // has by the second.
+        if let Some((lost, limit, left)) = st.trip {
+            st.trip = None;
+            if raised.is_none() {
+                if left > 1 {
+                    st.trip = Some((lost, limit, left - 1));
+                } else if collapsed {
+                    raised = Some((Cause::ToolGone, f, self.est.force_floor_n));
+                } else {
+                    raised = Some((Cause::Breakage, lost, limit));
+                }
+            }
+        }
         if raised.is_none() && wear_event.is_none() {
             return AlarmOutput {
                 event: None,
-                latched: st.latched.is_some(),
+                latched: st.latched.is_some() || st.trip.is_some(),
                 wear: st.theta,
                 wear_warning: st.wear_warned,
             };
         }
         Self::output_with_event(st, rec, raised, wear_event)
+    }
+
+    /// The drop trip passed inside the open period (see [`crate::handover`]): `lost` of
+    /// the tooth's force one revolution earlier against `limit` [N]. Latches the output;
+    /// the records after it name the cause (see `process`).
+    #[cold]
+    #[inline(never)]
+    pub fn trip(&self, st: &mut AlarmState, lost: f32, limit: f32) {
+        if st.latched.is_none() && st.trip.is_none() {
+            st.trip = Some((lost, limit, TRIP_NAMED_WITHIN));
+        }
     }
 
     /// The output of a record that raised an alarm or the wear warning (rare: out of the
@@ -1154,6 +1256,27 @@ impl Alarms {
         } else {
             (None, None)
         }
+    }
+
+    /// Whether no run of the newest teeth lost force from one revolution earlier: every
+    /// sum `S_j` of `R_k = F_k - F_{k+N}` over the newest `j <= N` teeth above
+    /// `-sqrt(j var)` (`var`: the bound's square for one tooth). An exit's teeth all lose,
+    /// the newest most; a broken flute's loss is followed by the next flute's gain.
+    #[inline(never)]
+    fn no_recent_loss(&self, st: &AlarmState, var: f32) -> bool {
+        let (mut i, mut k) = (st.slot(0), st.slot(self.n));
+        let mut sum = 0.0f32;
+        for j in 1..=self.n {
+            sum +=
+                st.hist_f.get(i).copied().unwrap_or(0.0) - st.hist_f.get(k).copied().unwrap_or(0.0);
+            #[allow(clippy::neg_cmp_op_on_partial_ord)]
+            if !(sum >= 0.0 || sum * sum <= j as f32 * var) {
+                return false;
+            }
+            i = i.wrapping_sub(1) & (HISTORY - 1);
+            k = k.wrapping_sub(1) & (HISTORY - 1);
+        }
+        true
     }
 
     /// Largest and smallest change from one revolution earlier, `F_k - F_{k+N}`, over the
@@ -1501,6 +1624,92 @@ mod tests {
             }
         }
         (latch, event)
+    }
+
+    /// Feeds the forces as `first_latch` does; before record `trip_at`, the drop trip of
+    /// its period passes. Returns whether the output latched at the trip, and the first
+    /// event: index and cause.
+    fn trip_then(f: &[f32], trip_at: usize, gone_from: usize) -> (bool, Option<(usize, Cause)>) {
+        let est = EstimatorConfig {
+            force_floor_n: 5.0,
+            ..EstimatorConfig::default()
+        };
+        let a = AlarmConfig::default().build(&est).unwrap();
+        let mut st = AlarmState::default();
+        let (mut latched, mut event) = (false, None);
+        for (i, &fx) in f.iter().enumerate() {
+            if i == trip_at {
+                assert!(st.trip_floor_n().is_finite(), "armed out of the steady cut");
+                a.trip(&mut st, 100.0, 50.0);
+                latched = st.output_latched() && st.output_cause() == Some(Cause::Breakage);
+            }
+            let cutting = i < gone_from || fx > 5.0;
+            let status = if cutting {
+                Status::AMBIGUOUS
+            } else {
+                Status::NOT_CUTTING
+            };
+            let out = a.process(&mut st, &record(i, fx, status));
+            assert_eq!(out.latched, i >= trip_at, "record {i}");
+            if let (None, Some(e)) = (event, out.event) {
+                event = Some((i, e.cause));
+            }
+        }
+        (latched, event)
+    }
+
+    /// The trip's arming, after steady forces with `after` appended.
+    fn trip_floor_after(after: &[f32]) -> f32 {
+        let est = EstimatorConfig::default();
+        let a = AlarmConfig::default().build(&est).unwrap();
+        let mut st = AlarmState::default();
+        for (i, &fx) in forces(3.0, 40, after).iter().enumerate() {
+            a.process(&mut st, &record(i, fx, Status::AMBIGUOUS));
+        }
+        st.trip_floor_n()
+    }
+
+    /// The drop trip inside a period (`crate::handover`) is armed out of a steady cut, at
+    /// 6 sigma of `R = F_k - F_{k-N}` (noise of 3 N on each tooth: sigma_R = 3 sqrt 2 N);
+    /// not after teeth that lost force (an exit: every tooth loses, the newest most); and
+    /// again after a loss the next tooth took back (a flute broken in its period).
+    #[test]
+    fn the_drop_trip_is_armed_out_of_a_steady_cut_and_not_in_an_exit() {
+        let floor = trip_floor_after(&[]);
+        let expected = 6.0 * 3.0 * core::f32::consts::SQRT_2;
+        assert!(
+            (floor - expected).abs() < 0.25 * expected,
+            "{floor} vs {expected}"
+        );
+        // The newest tooth lost 20 N (4.7 sigma_R), or the two newest 12 N each.
+        assert!(trip_floor_after(&[0.0, 0.0, 0.0, -20.0]).is_infinite());
+        assert!(trip_floor_after(&[0.0, 0.0, -12.0, -12.0]).is_infinite());
+        // A hand-over: tooth 1 lost 15 N (3.5 sigma_R), tooth 2 gained them.
+        assert!(trip_floor_after(&[0.0, -15.0, 15.0, 0.0]).is_finite());
+    }
+
+    /// A trip latches the output at once; the records after it name the cause: the next
+    /// flute's gain a breakage, every tooth empty a lost tool.
+    #[test]
+    fn a_drop_trip_latches_at_once_and_is_named_by_the_records_after_it() {
+        let broken = [0.0, -100.0, 100.0, 0.0];
+        let f = forces(3.0, 40, &[broken, broken].concat());
+        let (latched, event) = trip_then(&f, 161, usize::MAX);
+        assert!(latched);
+        let (i, cause) = event.unwrap();
+        assert_eq!(cause, Cause::Breakage);
+        assert!((161..=163).contains(&i), "{i}");
+        // The tool gone from tooth 1 of the revolution: the tripped period partly cut.
+        let mut f = forces(3.0, 40, &[0.0; 8]);
+        f[161] *= 0.5;
+        for x in f.iter_mut().skip(162) {
+            *x = 0.0;
+        }
+        let (latched, event) = trip_then(&f, 161, 161);
+        assert!(latched);
+        let (i, cause) = event.unwrap();
+        assert_eq!(cause, Cause::ToolGone);
+        assert!((161..=163).contains(&i), "{i}");
     }
 
     /// A flute lost between its engagements: its next period loses its whole force (tooth

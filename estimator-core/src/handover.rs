@@ -25,6 +25,21 @@
 //! `handover_n`. The alarm stage decides (a number of sigmas, and a share of the force the
 //! engagement predicts).
 //!
+//! # Drop trip
+//! A flute broken late in its cut is certain only when it comes round and misses its
+//! whole cut, and the tooth average of that period ends after the flute passes the angle
+//! where it broke: more than a revolution after the damage. Inside the period the loss
+//! shows from the cut's first angles on. As each bin of the open period completes, its
+//! mean minus the same tooth's one revolution earlier goes into a running sum; when the
+//! sum has lost more than a share of that tooth's whole force then (above the signal's
+//! level with nothing cut: the closed period's mean less its tangential force), the stage
+//! trips ([`Handover::arm_trip`], [`Handover::take_trip`]), mid-period. The alarm stage
+//! arms it after each record only where a drop alone is a broken flute (or a lost tool):
+//! out of a steady cut with a settled noise figure, the teeth before not losing (an
+//! exit's teeth all lose, the newest most; its first tooth loses at most about a third
+//! of its force), a share of half, at least 6 standard deviations of the tooth's change
+//! ([`crate::alarm`]). Per sample a compare; per bin a division and an add.
+//!
 //! Only between usable periods in tooth order (no lost pulse, moved window, feed change,
 //! bad data or air: any of them forgets every tooth's profile), only after `N + 1` steady
 //! periods in a row (no transient: entries and exits change every tooth), and after
@@ -62,8 +77,9 @@ pub struct HandoverState {
     /// The open period: per bin, the sum of the spindle channel and the samples summed.
     acc: [f32; BINS],
     cnt: [u16; BINS],
-    /// Per tooth, the bin means of its last period.
+    /// Per tooth, the bin means of its last period, and their sum.
     last: [[f32; BINS]; MAX_TEETH],
+    last_sum: [f32; MAX_TEETH],
     /// Bit `i`: `last[i]` holds a usable period since the last forget.
     filled: u8,
     /// The closed period: per bin, its mean minus the same tooth's one revolution earlier;
@@ -79,6 +95,16 @@ pub struct HandoverState {
     /// Running mean square of each suffix sum over steady periods, and periods in it.
     var: [f32; BINS],
     var_count: u16,
+    /// The drop trip (see [`Handover::arm_trip`]): the open period's tooth, its bins
+    /// folded so far and their summed change from one revolution earlier, the limit of
+    /// that sum (`INFINITY`: not armed) and whether it was passed.
+    open: u8,
+    fold: u8,
+    deficit: f32,
+    trip: f32,
+    tripped: bool,
+    /// The tangential force of one unit of the spindle signal, from the last period.
+    per_unit_n: f32,
 }
 
 impl Default for HandoverState {
@@ -87,6 +113,7 @@ impl Default for HandoverState {
             acc: [0.0; BINS],
             cnt: [0; BINS],
             last: [[0.0; BINS]; MAX_TEETH],
+            last_sum: [0.0; MAX_TEETH],
             filled: 0,
             change: [0.0; BINS],
             change_ok: false,
@@ -96,6 +123,12 @@ impl Default for HandoverState {
             last_tooth: 0,
             var: [0.0; BINS],
             var_count: 0,
+            open: 0,
+            fold: 0,
+            deficit: 0.0,
+            trip: f32::INFINITY,
+            tripped: false,
+            per_unit_n: 0.0,
         }
     }
 }
@@ -139,6 +172,75 @@ impl Handover {
             *a += x;
             *c = c.saturating_add(1);
         }
+        if bin > st.fold as usize {
+            self.fold(st, bin);
+        }
+    }
+
+    /// The bins before `bin` are complete: their change from the same tooth's one
+    /// revolution earlier into the open period's running sum, against the armed limit.
+    #[inline(never)]
+    fn fold(&self, st: &mut HandoverState, bin: usize) {
+        let mut j = st.fold as usize;
+        st.fold = bin as u8;
+        let Some(last) = st.last.get(st.open as usize) else {
+            return;
+        };
+        let mut d = st.deficit;
+        while j < bin {
+            if let (Some(&a), Some(&k), Some(&l)) = (st.acc.get(j), st.cnt.get(j), last.get(j)) {
+                if k > 0 {
+                    d += a / k as f32 - l;
+                }
+            }
+            j += 1;
+        }
+        st.deficit = d;
+        if d < -st.trip {
+            st.tripped = true;
+        }
+    }
+
+    /// Arms the drop trip for the open period: it trips when the period's bins so far
+    /// have lost, against the same tooth's one revolution earlier, more than `share` of
+    /// that tooth's whole force then and more than `floor_n`. `ft_n`: the tangential
+    /// force of the period just closed (with the signal's mean, it gives the signal's
+    /// level with nothing cut). Disarmed by `floor_n = INFINITY`, and where the open
+    /// tooth's last period is not usable.
+    #[inline(never)]
+    pub fn arm_trip(
+        &self,
+        st: &mut HandoverState,
+        closed: u8,
+        ft_n: f32,
+        share: f32,
+        floor_n: f32,
+    ) {
+        st.trip = f32::INFINITY;
+        if !self.on || st.per_unit_n <= 0.0 || st.filled & (1u8.wrapping_shl(st.open as u32)) == 0 {
+            return;
+        }
+        let sum = |t: u8| st.last_sum.get(t as usize).copied().unwrap_or(f32::NAN);
+        // In sums over the bins: the open tooth's last period above the signal's level
+        // with nothing cut (the closed period's mean less its tangential force).
+        let content = sum(st.open) - sum(closed) + ft_n * BINS as f32 / st.per_unit_n;
+        let limit = fmath::max(share * content, floor_n * BINS as f32 / st.per_unit_n);
+        if limit.is_finite() && limit > 0.0 {
+            st.trip = limit;
+        }
+    }
+
+    /// The drop trip passed in the open period: `(lost, limit)` as tangential forces of a
+    /// tooth average [N]; disarms it.
+    pub fn take_trip(&self, st: &mut HandoverState) -> Option<(f32, f32)> {
+        if !st.tripped {
+            return None;
+        }
+        st.tripped = false;
+        let scale = st.per_unit_n * (1.0 / BINS as f32);
+        let out = (-st.deficit * scale, st.trip * scale);
+        st.trip = f32::INFINITY;
+        Some(out)
     }
 
     /// The period of `tooth` is complete: its bin means against the same tooth's one
@@ -152,6 +254,7 @@ impl Handover {
                 // bin (at a jittered pulse, most periods) without a sample: it holds the
                 // mean of the bin before. Bin 0 always has the period's first sample.
                 let mut mean = f32::NAN;
+                let mut total = 0.0f32;
                 for ((c, l), (&a, &k)) in st
                     .change
                     .iter_mut()
@@ -163,6 +266,10 @@ impl Handover {
                     }
                     *c = mean - *l;
                     *l = mean;
+                    total += mean;
+                }
+                if let Some(t) = st.last_sum.get_mut(slot) {
+                    *t = total;
                 }
                 st.change_ok = st.filled & (1 << slot) != 0;
             }
@@ -170,6 +277,11 @@ impl Handover {
         }
         st.acc = [0.0; BINS];
         st.cnt = [0; BINS];
+        st.open = ((tooth as usize + 1) % (self.teeth.max(1) as usize)) as u8;
+        st.fold = 0;
+        st.deficit = 0.0;
+        st.trip = f32::INFINITY;
+        st.tripped = false;
     }
 
     /// After the monitor has judged the closed period of `tooth`: the hand-over into it
@@ -178,10 +290,17 @@ impl Handover {
     ///
     /// Out of line: once a tooth, one pass over the bins.
     #[inline(never)]
-    pub fn measure(&self, st: &mut HandoverState, tooth: u8, period: Period) -> (f32, f32) {
+    pub fn measure(
+        &self,
+        st: &mut HandoverState,
+        tooth: u8,
+        period: Period,
+        per_unit_n: f32,
+    ) -> (f32, f32) {
         if !self.on {
             return (0.0, 0.0);
         }
+        st.per_unit_n = per_unit_n;
         let n = self.teeth as usize;
         let in_order = tooth as usize == (st.last_tooth as usize + 1) % n;
         st.last_tooth = tooth;
@@ -306,8 +425,16 @@ mod tests {
 
     /// Feeds periods (tooth `k % N`, its samples) through the stage the way the monitor
     /// does (bins of the previous period's length), every one a steady cut unless listed in
-    /// `unusable`; `(z, amount)` of each closed period.
-    fn run(periods: &[Vec<f32>], unusable: &[usize]) -> Vec<(f32, f32)> {
+    /// `unusable`; `(z, amount)` of each closed period. `trip`: the drop trip is armed
+    /// after every period (half the tooth's force, no noise floor; the signal is 0 with
+    /// nothing cut, one unit per newton), and the feed stops at the first, returned as
+    /// (period, sample in it, lost share of the tooth's force).
+    #[allow(clippy::type_complexity)]
+    fn feed(
+        periods: &[Vec<f32>],
+        unusable: &[usize],
+        trip: bool,
+    ) -> (Vec<(f32, f32)>, Option<(usize, usize, f32)>) {
         let h = Handover::new(N, true);
         let mut st = HandoverState::default();
         let mut out = Vec::new();
@@ -326,11 +453,28 @@ mod tests {
                     } else {
                         Period::Cut { steady: true }
                     };
-                    out.push(h.measure(&mut st, t, period));
+                    out.push(h.measure(&mut st, t, period, 1.0));
+                    if trip {
+                        let prev = &periods[k - 1];
+                        let ft = prev.iter().sum::<f32>() / prev.len() as f32;
+                        h.arm_trip(&mut st, t, ft, 0.5, 0.0);
+                    }
+                }
+                if let Some((lost, _)) = h.take_trip(&mut st) {
+                    let tooth: f32 = (0..LEN).map(flute).sum::<f32>() / LEN as f32;
+                    return (out, Some((k, pos, lost / tooth)));
                 }
             }
         }
-        out
+        (out, None)
+    }
+
+    fn run(periods: &[Vec<f32>], unusable: &[usize]) -> Vec<(f32, f32)> {
+        feed(periods, unusable, false).0
+    }
+
+    fn first_trip(periods: &[Vec<f32>], unusable: &[usize]) -> Option<(usize, usize, f32)> {
+        feed(periods, unusable, true).1
     }
 
     /// `revs` revolutions of a steady cut, flute 0 cutting 30 % more (runout), noise
@@ -380,6 +524,48 @@ mod tests {
         let before = out[..k].iter().map(|o| o.0).fold(0.0, f32::max);
         assert!(before < 4.0, "{before}");
         assert!(out.iter().all(|o| o.0.is_finite() && o.1.is_finite()));
+    }
+
+    /// A flute that breaks at 90 % of its cut loses a few per cent of a tooth's force in
+    /// its own period. When it comes round it cuts nothing: its period trips as soon as
+    /// the samples so far have lost half of what they were (computed here from the
+    /// flute's signal), before it reaches the angle where it broke, i.e. within one
+    /// revolution of the damage. Steady runout, noise and jittered lengths never trip, nor
+    /// does a period whose tooth's last one was unusable.
+    #[test]
+    fn a_flute_broken_late_trips_when_it_comes_round() {
+        let mut p = steady(40, 1.0);
+        let (k, at) = (61, 36);
+        for i in at..p[k].len() {
+            p[k][i] -= flute(i);
+        }
+        for i in at..p[k + 1].len() {
+            p[k + 1][i] += flute(i);
+        }
+        let n = N as usize;
+        for i in 0..p[k + n].len() {
+            p[k + n][i] -= flute(i);
+        }
+        for i in 0..p[k + n + 1].len() {
+            p[k + n + 1][i] += flute(i);
+        }
+        let (period, pos, lost) = first_trip(&p, &[]).unwrap();
+        assert_eq!(period, k + n);
+        // Where the flute's cut so far reaches half its whole.
+        let total: f32 = (0..LEN).map(flute).sum();
+        let half = (0..LEN)
+            .position(|i| (0..=i).map(flute).sum::<f32>() >= 0.5 * total)
+            .unwrap();
+        // Decided at a bin's end (3 samples), with the noise of a few bins.
+        assert!(
+            pos >= half.saturating_sub(3) && pos <= half + 7,
+            "{pos} vs {half}"
+        );
+        assert!(pos < at, "{pos}");
+        assert!((0.45..=0.8).contains(&lost), "{lost}");
+        assert_eq!(first_trip(&steady(60, 1.0), &[]), None);
+        // The broken flute's period before was unusable: nothing to compare with.
+        assert_eq!(first_trip(&p[..k + n + 2], &[k + n - 1]).map(|t| t.0), None);
     }
 
     #[test]

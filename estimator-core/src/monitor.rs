@@ -594,13 +594,34 @@ impl Monitor {
                 steady: !status.contains(Status::TRANSIENT),
             }
         };
-        let (z, amount) = self.handover.measure(&mut st.hand, tooth, period);
+        let (z, amount) = self
+            .handover
+            .measure(&mut st.hand, tooth, period, per_unit_n);
         let n = amount * per_unit_n;
         if n.is_finite() {
             (z, n)
         } else {
             (0.0, 0.0)
         }
+    }
+
+    /// Arms the hand-over stage's drop trip for the open period after `rec` (see
+    /// [`Handover::arm_trip`]).
+    pub(crate) fn arm_trip(
+        &self,
+        st: &mut MonitorState,
+        rec: &ToothRecord,
+        share: f32,
+        floor_n: f32,
+    ) {
+        self.handover
+            .arm_trip(&mut st.hand, rec.tooth, rec.f2_n, share, floor_n);
+    }
+
+    /// The drop trip passed in the open period: `(lost, limit)` [N].
+    #[inline(always)]
+    pub(crate) fn take_trip(&self, st: &mut MonitorState) -> Option<(f32, f32)> {
+        self.handover.take_trip(&mut st.hand)
     }
 
     /// Where the window's boundary is in the tooth period (share of a period after the

@@ -3,7 +3,7 @@
 //! The firmware's monitor task and host-sim's replay both run exactly this, so that the
 //! records and the alarms they produce from the same samples are the same bit for bit.
 
-use crate::alarm::{AlarmConfig, AlarmOutput, AlarmState, Alarms};
+use crate::alarm::{AlarmConfig, AlarmOutput, AlarmState, Alarms, TRIP_SHARE};
 use crate::frontend::FrontEnd;
 use crate::monitor::{Monitor, MonitorConfig, MonitorState, Sample, ToothRecord};
 use crate::probe::{NoProbe, Probe, Stage};
@@ -67,6 +67,10 @@ impl Pipeline {
     }
 
     /// Feeds one sample; when a tooth period closes, its record and what the alarms say.
+    /// A drop trip inside a period ([`crate::handover`]) latches the alarms between
+    /// records: drive the output from [`AlarmState::output_latched`] (or
+    /// [`AlarmState::output_cause`]) after every sample or block, not from the records
+    /// alone.
     ///
     /// Not inlined, so that the result (168 bytes) is built straight into the caller's
     /// variable: bind it to a fresh `let` and match on a reference to it (`if let
@@ -102,7 +106,12 @@ impl Pipeline {
         probe: &mut P,
     ) -> Option<(ToothRecord, AlarmOutput)> {
         match self.monitor.period(&mut st.monitor, s) {
-            None => None,
+            None => {
+                if let Some((lost, limit)) = self.monitor.take_trip(&mut st.monitor) {
+                    self.alarms.trip(&mut st.alarms, lost, limit);
+                }
+                None
+            }
             Some(p) => {
                 probe.mark(Stage::Period);
                 Some(self.tooth_update(st, &p, probe))
@@ -132,6 +141,12 @@ impl Pipeline {
         let out = self
             .alarms
             .process_with(&mut st.alarms, &st.last, model, probe);
+        self.monitor.arm_trip(
+            &mut st.monitor,
+            &st.last,
+            TRIP_SHARE,
+            st.alarms.trip_floor_n(),
+        );
         (rec, out)
     }
 

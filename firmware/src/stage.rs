@@ -224,7 +224,7 @@ impl MonitorStage {
 
     /// Cause of the latched alarm, if any.
     pub fn latched_cause(&self) -> Option<Cause> {
-        self.state.alarms.latched().map(|e| e.cause)
+        self.state.alarms.output_cause()
     }
 
     /// Loss counters so far.

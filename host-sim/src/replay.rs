@@ -489,7 +489,10 @@ pub struct ReplayOutputs {
     pub events: bool,
 }
 
-/// The alarm-events CSV (`--alarms`): one row per event.
+/// The alarm-events CSV (`--alarms`): one row per event, at the record that raised it.
+/// A drop trip inside a period (`estimator_core::handover`) latches the output before its
+/// record; its event comes with the record that names its cause, up to three records
+/// later (`value`: the force lost, `threshold`: the trip's limit).
 pub const ALARM_COLUMNS: &str = "time_s,record,tooth,cause,value,threshold,latched";
 
 /// One row of the alarm-events CSV.
