@@ -56,7 +56,7 @@
 //!     loses at most about a third: the far reach of the arc, the thickest chip, leaves
 //!     first; a broken flute's loss is followed by the next flute's gain), and feeds
 //!     per tooth up to [`TRIP_MAX_TC_PER_R`] of the radius (beyond, an exit's second
-//!     tooth can lose half). The trip latches the output at once; the records after it
+//!     tooth can lose half), with the resultant watched. The trip latches the output at once; the records after it
 //!     name the cause: a rule that raises on them, else after [`TRIP_NAMED_WITHIN`]
 //!     records a lost tool if the last two teeth collapsed, a breakage otherwise.
 //!   - two teeth in a row fallen below [`GONE_SHARE`] of their force one revolution
@@ -539,8 +539,8 @@ const HANDOVER_SHARE: f32 = 0.2;
 /// The drop trip inside a period ([`crate::handover`]): the open period's bins so far
 /// have lost this share of the tooth's whole force one revolution earlier.
 pub const TRIP_SHARE: f32 = 0.5;
-/// ... armed only when the revolution before it changed by at most this many standard
-/// deviations of its sum (`sqrt(N) sigma_R`).
+/// ... armed only when no run of the newest `j <= N` teeth lost more than this many
+/// standard deviations of its sum (`sqrt(j) sigma_R`) from one revolution earlier.
 const TRIP_QUIET_SIGMAS: f32 = 3.0;
 /// ... and only where the feed per tooth is at most this share of the radius: beyond, the
 /// second tooth of an exit through a face can lose half its force.
@@ -985,7 +985,7 @@ impl Alarms {
         }
 
         // The drop trip for the next period: out of a steady cut with a settled noise
-        // figure, the revolution before unchanged as a whole (an exit's teeth all lose).
+        // figure, no run of the newest teeth losing force (an exit's teeth all lose).
         st.trip_floor_n = f32::INFINITY;
         if let (true, Some(_)) = (
             self.cfg.breakage.enabled
@@ -1152,8 +1152,8 @@ impl Alarms {
         // `AlarmOutput` is 96 bytes: built in a local and returned, it is copied by a
         // `memcpy` call).
         // A drop trip inside a period latched the output; its cause is named by the rules
-        // on the records after it (two empty teeth: the tool is gone), a breakage when none
-        // has by the second.
+        // on the records after it, else on the last of TRIP_NAMED_WITHIN: a lost tool when
+        // the two newest teeth collapsed, a breakage otherwise.
         if let Some((lost, limit, left)) = st.trip {
             st.trip = None;
             if raised.is_none() {
