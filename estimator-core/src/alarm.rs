@@ -56,7 +56,9 @@
 //!     loses at most about a third: the far reach of the arc, the thickest chip, leaves
 //!     first; a broken flute's loss is followed by the next flute's gain), and feeds
 //!     per tooth up to [`TRIP_MAX_TC_PER_R`] of the radius (beyond, an exit's second
-//!     tooth can lose half), with the resultant watched. The trip latches the output at once; the records after it
+//!     tooth can lose half), with the resultant watched; the monitor passes it only
+//!     while the feed speed holds (a feed hold thins every chip at once). The trip
+//!     latches the output at once; the records after it
 //!     name the cause: a rule that raises on them, else after [`TRIP_NAMED_WITHIN`]
 //!     records a lost tool if the last two teeth collapsed, a breakage otherwise.
 //!   - two teeth in a row fallen below [`GONE_SHARE`] of their force one revolution

@@ -38,7 +38,9 @@
 //! out of a steady cut with a settled noise figure, the teeth before not losing (an
 //! exit's teeth all lose, the newest most; its first tooth loses at most about a third
 //! of its force), a share of half, at least 6 standard deviations of the tooth's change
-//! ([`crate::alarm`]). Per sample a compare; per bin a division and an add.
+//! ([`crate::alarm`]). The monitor lets a trip pass only with the feed speed at it within
+//! [`crate::monitor::TRIP_FEED_SHARE`] of the last period's: a feed hold thins every chip
+//! at once, the open period's first. Per sample a compare; per bin a division and an add.
 //!
 //! Only between usable periods in tooth order (no lost pulse, moved window, feed change,
 //! bad data or air: any of them forgets every tooth's profile), only after `N + 1` steady

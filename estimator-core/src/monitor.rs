@@ -323,6 +323,10 @@ impl ToothRecord {
 /// Length of [`ToothRecord::to_words`].
 pub const RECORD_WORDS: usize = 21;
 
+/// The drop trip passes only with the feed speed at least this share of the last
+/// period's (see `Monitor::take_trip`).
+pub const TRIP_FEED_SHARE: f32 = 0.8;
+
 /// Periods the hand-over stage does not compare across: the tooth alignment or the
 /// forces' level may have moved (an air cut or a moved window restarts it altogether).
 const NO_HANDOVER: Status = Status(
@@ -374,6 +378,8 @@ pub struct MonitorState {
     tooth: ToothState,
     win: WindowState,
     hand: HandoverState,
+    /// Feed speed of the last period [mm/min] (the drop trip's feed test).
+    speed_mm_min: f32,
     ring: [Entry; MAX_WINDOW],
     /// `rev[i]`: mean of the revolution (`flutes` entries) ending at `ring[i]`, newest
     /// first, made when `ring[i]` was stored. A revolution that reaches back before the
@@ -407,6 +413,7 @@ impl Default for MonitorState {
             tooth: ToothState::default(),
             win: WindowState::default(),
             hand: HandoverState::default(),
+            speed_mm_min: 0.0,
             ring: [Entry::default(); MAX_WINDOW],
             rev: [Entry::default(); MAX_WINDOW],
             head: 0,
@@ -618,10 +625,18 @@ impl Monitor {
             .arm_trip(&mut st.hand, rec.tooth, rec.f2_n, share, floor_n);
     }
 
-    /// The drop trip passed in the open period: `(lost, limit)` [N].
+    /// The drop trip passed in the open period at sample `s`: `(lost, limit)` [N]. Not
+    /// while the feed slows: a feed hold or override thins every chip at once, the tooth
+    /// in its period first (the feed speed at the trip under [`TRIP_FEED_SHARE`] of the
+    /// last period's; with a nominal feed velocity the monitor cannot see it).
     #[inline(always)]
-    pub(crate) fn take_trip(&self, st: &mut MonitorState) -> Option<(f32, f32)> {
-        self.handover.take_trip(&mut st.hand)
+    pub(crate) fn take_trip(&self, st: &mut MonitorState, s: &Sample) -> Option<(f32, f32)> {
+        let trip = self.handover.take_trip(&mut st.hand)?;
+        let v = match self.cfg.feed_velocity {
+            FeedVelocity::Measured => s.feed_velocity_mm_min,
+            FeedVelocity::Nominal(v) => v,
+        };
+        (fmath::hypot(v[0], v[1]) >= TRIP_FEED_SHARE * st.speed_mm_min).then_some(trip)
     }
 
     /// Where the window's boundary is in the tooth period (share of a period after the
@@ -679,6 +694,7 @@ impl Monitor {
         };
         let [_, _, v0, v1, _] = p.mean;
         let speed = crate::fmath::hypot(v0, v1);
+        st.speed_mm_min = speed;
         let tc_mm = speed / (n as f32 * rpm);
         let (fx_n, f2_n, moving, per_unit_n) = self.forces(p.mean, rpm);
         probe.mark(Stage::Forces);

@@ -107,7 +107,7 @@ impl Pipeline {
     ) -> Option<(ToothRecord, AlarmOutput)> {
         match self.monitor.period(&mut st.monitor, s) {
             None => {
-                if let Some((lost, limit)) = self.monitor.take_trip(&mut st.monitor) {
+                if let Some((lost, limit)) = self.monitor.take_trip(&mut st.monitor, s) {
                     self.alarms.trip(&mut st.alarms, lost, limit);
                 }
                 None

@@ -859,3 +859,39 @@ pub const MIN_BREAK_DETECTION: f64 = 0.9;
 /// Share of full breakages `--check` requires caught within one revolution of the first
 /// missed cut (the small set: 10 of 10 at seeds 1-3; the full set 98-100 % at seeds 1-5).
 pub const MIN_BREAK_WITHIN_REV: f64 = 0.9;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::scenario::Profile;
+
+    /// A normal case whose feed change is a feed hold: in `ramp_s` down to `share` of the
+    /// feed, held there for the rest of the job.
+    fn feed_hold(index: usize, ramp_s: f64, share: f64) -> Case {
+        let mut case = draw_case(Kind::Normal, index, 1).expect("a normal case");
+        let segs = &mut case.scenario.segments;
+        let feed = match segs[0].feed_mm_min {
+            Some(Profile::Constant(f)) => f,
+            ref p => panic!("first segment's feed {p:?}"),
+        };
+        segs[3].duration_s = ramp_s;
+        segs[3].feed_mm_min = Some(Profile::Ramp(feed, share * feed));
+        for s in segs.iter_mut().skip(4) {
+            s.feed_mm_min = Some(Profile::Constant(share * feed));
+        }
+        case
+    }
+
+    /// A feed hold at a high-acceleration machine's rate (1.5 m/min to a fifth in 2 ms,
+    /// about 10 m/s^2): the chip thins within a tooth period, every tooth at once, in the
+    /// middle of a steady cut. Neither a breakage (the drop trip inside a period) nor a lost
+    /// tool (the feed goes on).
+    #[test]
+    fn a_feed_hold_in_a_steady_cut_raises_nothing() {
+        for i in 0..8 {
+            let case = feed_hold(i, 0.002, 0.0);
+            let out = run_case(&case).expect("the case runs");
+            assert_eq!(out.first_alarm, None, "case {i}");
+        }
+    }
+}
