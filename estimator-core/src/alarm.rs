@@ -989,22 +989,20 @@ impl Alarms {
         // The drop trip for the next period: out of a steady cut with a settled noise
         // figure, no run of the newest teeth losing force (an exit's teeth all lose).
         st.trip_floor_n = f32::INFINITY;
-        if let (true, Some(_)) = (
-            self.cfg.breakage.enabled
-                && deciding
-                && st.latched.is_none()
-                && st.trip.is_none()
-                && !rec.status.contains(Status::TRANSIENT)
-                && st.e_count as usize >= (2 * n).max(SETTLED_E)
-                && self.cfg.breakage.signal == BreakageSignal::Resultant,
-            rev_change,
-        ) {
-            let var_r = 0.5 * st.e_var;
-            if rec.tc_mm <= TRIP_MAX_TC_PER_R * self.est.tool.radius_mm
-                && self.no_recent_loss(st, TRIP_QUIET_SIGMAS * TRIP_QUIET_SIGMAS * var_r)
-            {
-                st.trip_floor_n = FIRST_TOOTH_SIGMAS * libm::sqrtf(var_r);
-            }
+        let var_r = 0.5 * st.e_var;
+        // (`rev_change`: the last `2 N` teeth armed, which `no_recent_loss` reads.)
+        if self.cfg.breakage.enabled
+            && deciding
+            && st.latched.is_none()
+            && st.trip.is_none()
+            && !rec.status.contains(Status::TRANSIENT)
+            && st.e_count as usize >= (2 * n).max(SETTLED_E)
+            && self.cfg.breakage.signal == BreakageSignal::Resultant
+            && rev_change.is_some()
+            && rec.tc_mm <= TRIP_MAX_TC_PER_R * self.est.tool.radius_mm
+            && self.no_recent_loss(st, TRIP_QUIET_SIGMAS * TRIP_QUIET_SIGMAS * var_r)
+        {
+            st.trip_floor_n = FIRST_TOOTH_SIGMAS * libm::sqrtf(var_r);
         }
 
         probe.mark(Stage::AlarmBreakage);
