@@ -24,6 +24,15 @@ step() {
     echo "<== ok ($((SECONDS - start)) s): $*"
 }
 
+# CI's machine has little disk (a full run once filled it): there, a build tree goes as soon
+# as no later step reads it. A developer's trees stay, for the next run.
+prune() {
+    if [[ -n ${CI:-} ]]; then
+        echo "==> CI: removing $* ($(du -sh "$@" 2>/dev/null | cut -f1 | paste -sd+))"
+        rm -rf "$@"
+    fi
+}
+
 # --- prerequisites -----------------------------------------------------------------------
 if ! command -v cargo >/dev/null && [[ -f "${HOME:-/root}/.cargo/env" ]]; then
     # shellcheck disable=SC1091
@@ -63,18 +72,21 @@ step cargo clippy -p firmware -p target-check --target "$TARGET" -- -D warnings
 # --workspace: all members, not just default-members.
 step cargo test --workspace
 
+# --- slow tests: QEMU (tests/target-check) and data under ../shared/data -------------------
+# Every `#[ignore]`d test of every member runs here; mark new slow tests `#[ignore]` and they
+# are picked up without touching this script.
+step cargo test --workspace -- --ignored
+prune target/debug target/qemu
+
 # --- cross builds --------------------------------------------------------------------------
 # The core builds for a no_std, no-heap target.
 step cargo build -p estimator-core --target "$TARGET" --release
 step cargo build -p firmware --target "$TARGET" --release
 # Flash under 64 KiB and static RAM under 16 KiB (it slipped past once, unnoticed).
 step bash tests/budget.sh "target/$TARGET/release/firmware"
-
-# --- slow tests: QEMU (tests/target-check) and data under ../shared/data -------------------
-# Every `#[ignore]`d test of every member runs here; mark new slow tests `#[ignore]` and they
-# are picked up without touching this script.
+# The firmware built from the calibration the host tests wrote (target/tmp).
 step bash tests/calibrated-firmware.sh
-step cargo test --workspace -- --ignored
+prune target/calibrated
 
 # --- the user's commands, end to end ---------------------------------------------------------
 # README's demo, and the alarm evaluation on CI's small set (its --check fails on a false

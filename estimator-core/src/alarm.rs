@@ -76,9 +76,12 @@
 //!   period (a lost pulse) forgets it.
 //! - Tool gone: the force falls from a steady cut near its recent peak to the not-cutting
 //!   floor within a few teeth while the feed goes on: two teeth in a row below the floor
-//!   (or the monitor's not-cutting flag, on the revolution mean). An exit from the part lowers the
+//!   that were above it a revolution earlier (or the monitor's not-cutting flag, on the
+//!   revolution mean). An exit from the part lowers the
 //!   force over revolutions first; a lost tool does not ("steady" excludes a revolution
-//!   mean already falling by more than 10 % a revolution).
+//!   mean already falling by more than 10 % a revolution). A feed turned down in one step
+//!   is not a collapse: the steady force scaled by the feed's share must stand clear of
+//!   the floor.
 //! - Overload: the revolution-mean force above what the configured maximum engagement
 //!   gives at the current feed per tooth (eq. 7), or above a force limit.
 //! - Teach-in: a recorded good cut's revolution-mean force against revolutions since the
@@ -428,9 +431,11 @@ pub struct AlarmState {
     exceed_neg: u32,
     /// Last valid estimate `(rr, ra)`, while cutting.
     held: Option<(f32, f32)>,
-    /// Teeth since the last steady (armed, not transient) cutting record, and its force.
+    /// Teeth since the last steady (armed, not transient) cutting record, its force and
+    /// its feed per tooth.
     since_steady: u32,
     steady_force_n: f32,
+    steady_tc_mm: f32,
     /// Running mean of E^2 (clipped) and the number of E values seen.
     e_var: f32,
     e_count: u16,
@@ -479,6 +484,7 @@ impl Default for AlarmState {
             held: None,
             since_steady: u32::MAX,
             steady_force_n: 0.0,
+            steady_tc_mm: 0.0,
             peak_force_n: 0.0,
             e_var: 0.0,
             e_count: 0,
@@ -784,9 +790,6 @@ impl Alarms {
         if rec.status.is_valid() {
             st.held = Some((rec.rr, rec.ra));
         }
-        if rec.status.contains(Status::NOT_CUTTING) && !self.gone_candidate(st, rec, two_dead) {
-            st.held = None;
-        }
         let head = st.head & (HISTORY - 1);
         if let Some(slot) = st.hist_f.get_mut(head) {
             *slot = f;
@@ -809,6 +812,14 @@ impl Alarms {
         // differ and `E` swings both ways: the breakage rules leave it to tool gone.
         let collapsed =
             st.force(0) < GONE_SHARE * st.force(n) && st.force(1) < GONE_SHARE * st.force(n + 1);
+        // Two teeth under the floor that carried force over it a revolution earlier: a
+        // runout larger than the chip leaves flutes in a row idle at a low feed, every
+        // revolution (a feed override turned down).
+        let floor = self.est.force_floor_n;
+        let two_dead = two_dead && collapsed && st.force(n) >= floor && st.force(n + 1) >= floor;
+        if rec.status.contains(Status::NOT_CUTTING) && !self.gone_candidate(st, rec, two_dead) {
+            st.held = None;
+        }
         let mut raise = |cause, value, threshold| {
             if raised.is_none() && !(cause == Cause::Breakage && collapsed) {
                 raised = Some((cause, value, threshold));
@@ -1023,6 +1034,7 @@ impl Alarms {
                 if m >= STRONG_SHARE * st.peak_force_n && !falling {
                     st.since_steady = 0;
                     st.steady_force_n = m;
+                    st.steady_tc_mm = rec.tc_mm;
                 } else {
                     st.since_steady = st.since_steady.saturating_add(1);
                 }
@@ -1436,11 +1448,17 @@ impl Alarms {
     }
 
     /// Whether `rec` is a force collapse right after a steady cut while feeding.
+    ///
+    /// The steady force is scaled by the feed's change since: a feed override turned down
+    /// in one step to a tenth takes a light cut to the floor with the tool in place, so the
+    /// force the feed alone leaves must stand clear of the floor. (Linear in `t_c`: the edge
+    /// force keeps the real one above it, so this errs towards no alarm.)
     fn gone_candidate(&self, st: &AlarmState, rec: &ToothRecord, two_dead: bool) -> bool {
+        let feed_share = crate::fmath::min(1.0, rec.tc_mm / st.steady_tc_mm);
         (rec.status.contains(Status::NOT_CUTTING) || two_dead)
             && rec.tc_mm > 0.0
             && st.since_steady <= self.cfg.tool_gone.max_drop_revs as u32 * self.n as u32
-            && st.steady_force_n > 3.0 * self.est.force_floor_n
+            && st.steady_force_n * feed_share > 3.0 * self.est.force_floor_n
     }
 }
 

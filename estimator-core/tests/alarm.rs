@@ -349,6 +349,52 @@ fn a_quick_exit_is_not_a_lost_tool() {
     }
 }
 
+/// First non-wear alarm and its time, with the not-cutting floor at `floor_n` in the
+/// monitor and the alarms (a machine's calibrated idle level, over the noise).
+fn first_alarm_floor(sc: &Scenario, floor_n: f32) -> Option<(Cause, f64)> {
+    let mut cfg = config(MillingMode::Down, 10_000.0);
+    cfg.estimator.force_floor_n = floor_n;
+    let a = AlarmConfig::default().build(&cfg.estimator).unwrap();
+    let mut st = Default::default();
+    run(sc, cfg).iter().find_map(|(r, _)| {
+        let e = a.process(&mut st, r).event?;
+        (e.cause != Cause::Wear).then(|| (e.cause, e.record.time_s(10_000.0)))
+    })
+}
+
+#[test]
+fn a_feed_override_turned_down_in_one_step_is_not_a_lost_tool() {
+    // Mid-cut, the feed to a tenth within a tooth period; the tool stays in. With a runout
+    // larger than the new chip two flutes in a row cut nothing, every revolution (six
+    // seconds: the recent peak decays until the light cut counts as steady); in a light cut
+    // every tooth's force falls to near the not-cutting floor (40 N here, over the noise as
+    // a calibrated machine's).
+    let floor_n = 40.0;
+    let cases = [
+        (3.0, [0.05, 0.02, -0.01, 0.0]), // two idle flutes in a row
+        (0.5, [0.01, 0.0, 0.0, 0.0]),    // a light cut
+    ];
+    for (dr_mm, runout_mm) in cases {
+        for seed in 1..=3 {
+            let segs = vec![seg(2.0, dr_mm, 6.0, 500.0), seg(6.0, dr_mm, 6.0, 50.0)];
+            let mut sc = paper(segs, 60 + seed);
+            sc.noise_rel = 0.03;
+            sc.runout_mm = runout_mm;
+            let first = first_alarm_floor(&sc, floor_n);
+            assert_eq!(first, None, "d_r {dr_mm} seed {seed}");
+        }
+    }
+    // The tool lost after a step to half the feed: still a lost tool, within a revolution.
+    let segs = vec![
+        seg(2.0, 3.0, 6.0, 500.0),
+        seg(2.0, 3.0, 6.0, 250.0),
+        seg(1.0, 0.0, 6.0, 250.0),
+    ];
+    let (cause, t) = first_alarm_floor(&paper(segs, 70), floor_n).unwrap();
+    assert_eq!(cause, Cause::ToolGone);
+    assert!((4.0..4.1).contains(&t), "raised at {t}");
+}
+
 /// Moves the sync pulse closest after `at_s` by `shift` samples (later), or drops it.
 fn move_pulse(at_s: f64, shift: Option<usize>) -> impl FnMut(usize, &mut estimator_core::Sample) {
     let from = (at_s * 10_000.0) as usize;

@@ -894,4 +894,22 @@ mod tests {
             assert_eq!(out.first_alarm, None, "case {i}");
         }
     }
+
+    /// A feed override turned down in one step (2 ms) to a tenth, a fifth or half: the
+    /// force falls with the chip, to near the not-cutting floor at a tenth of a light cut's
+    /// feed, while the feed goes on. Not a lost tool: the force still follows the feed.
+    #[test]
+    fn a_feed_override_step_raises_nothing() {
+        let mut raised = Vec::new();
+        for share in [0.1, 0.2, 0.5] {
+            for i in 0..8 {
+                let case = feed_hold(i, 0.002, share);
+                let out = run_case(&case).expect("the case runs");
+                if let Some(a) = out.first_alarm {
+                    raised.push(format!("{share} case {i}: {a:?}"));
+                }
+            }
+        }
+        assert!(raised.is_empty(), "{raised:#?}");
+    }
 }
