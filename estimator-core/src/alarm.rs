@@ -54,12 +54,14 @@
 //!     with no run of the newest `j <= N` teeth that lost more than `3 sqrt(j)
 //!     sigma_R` together (the teeth armed with their own a revolution earlier: after the
 //!     history was forgotten, from the `N + 1`-th record on; an exit's teeth all lose, the
-//!     newest most, and its first tooth
-//!     loses at most about a third: the far reach of the arc, the thickest chip, leaves
-//!     first; a broken flute's loss is followed by the next flute's gain), and feeds
-//!     per tooth up to [`TRIP_MAX_TC_PER_R`] of the radius (beyond, an exit's second
-//!     tooth can lose half), with the resultant watched; the monitor passes it only
-//!     while the feed speed holds (a feed hold thins every chip at once). The trip
+//!     newest most; a broken flute's loss is followed by the next flute's gain), with the
+//!     resultant watched. An exit through a face whose first tooth's loss hid in the noise
+//!     can take more than half from its second: the arc's far reach, the thickest chip,
+//!     leaves first, as the square root of the travel where the arc holds `pi/2`
+//!     ([`crate::geometry::exit_loss_share`]). The share is raised to that exit's loss at
+//!     two feeds per tooth of travel, plus `3 sigma_R`, and the trip is not armed beyond
+//!     0.9. The monitor passes it only while the feed speed holds (a feed hold thins
+//!     every chip at once). The trip
 //!     latches the output at once; the records after it
 //!     name the cause: a rule that raises on them, else after [`TRIP_NAMED_WITHIN`]
 //!     records a lost tool if the last two teeth collapsed, a breakage otherwise.
@@ -81,7 +83,10 @@
 //!   that were above it a revolution earlier (or the monitor's not-cutting flag, on the
 //!   revolution mean). An exit from the part lowers the
 //!   force over revolutions first; a lost tool does not ("steady" excludes a revolution
-//!   mean already falling by more than 10 % a revolution). A feed turned down in one step
+//!   mean already falling by more than 10 % a revolution, and at most two good teeth
+//!   since the last steady record may carry force over the floor: a fast exit, a few
+//!   revolutions long, passes the 10 % test on its first tooth and then fades over
+//!   many). A feed turned down in one step
 //!   is not a collapse: the steady force scaled by the feed's share must stand clear of
 //!   the floor.
 //! - Overload: the revolution-mean force above what the configured maximum engagement
@@ -433,9 +438,10 @@ pub struct AlarmState {
     exceed_neg: u32,
     /// Last valid estimate `(rr, ra)`, while cutting.
     held: Option<(f32, f32)>,
-    /// Teeth since the last steady (armed, not transient) cutting record, its force and
-    /// its feed per tooth.
+    /// Teeth since the last steady (armed, not transient) cutting record, those of them
+    /// with good data over the not-cutting floor, its force and its feed per tooth.
     since_steady: u32,
+    live_since_steady: u8,
     steady_force_n: f32,
     steady_tc_mm: f32,
     /// Running mean of E^2 (clipped) and the number of E values seen.
@@ -469,6 +475,12 @@ pub struct AlarmState {
     resumed: u8,
     /// The drop trip's noise floor for the next period [N] (`INFINITY`: not armed).
     trip_floor_n: f32,
+    /// ... and its share of the tooth's force ([`TRIP_SHARE`] or more).
+    trip_share: f32,
+    /// The exit's loss share behind it, and the feed per tooth [mm] and `R_r` it is for
+    /// (`R_r` -1: none valid).
+    exit_share: f32,
+    exit_key: (f32, f32),
     /// A drop trip that latched the output: `(lost, limit)` [N] and the records left
     /// before it is named a breakage.
     trip: Option<(f32, f32, u8)>,
@@ -485,6 +497,7 @@ impl Default for AlarmState {
             exceed_neg: 0,
             held: None,
             since_steady: u32::MAX,
+            live_since_steady: u8::MAX,
             steady_force_n: 0.0,
             steady_tc_mm: 0.0,
             peak_force_n: 0.0,
@@ -506,6 +519,9 @@ impl Default for AlarmState {
             prev_dead: false,
             resumed: 0,
             trip_floor_n: f32::INFINITY,
+            trip_share: TRIP_SHARE,
+            exit_share: 1.0,
+            exit_key: (f32::NAN, f32::NAN),
             trip: None,
         }
     }
@@ -540,6 +556,10 @@ const FIRST_TOOTH_QUIET_TEETH: usize = 3;
 /// Two teeth in a row below this share of their force one revolution earlier: nothing
 /// cuts any more (a lost tool, the last teeth of an exit), not a lost flute.
 const GONE_SHARE: f32 = 0.3;
+/// A lost tool: at most this many good teeth since the last steady record carried force
+/// over the not-cutting floor (the tooth in which it was lost, and one for the drive's lag
+/// or noise); an exit's teeth fade over revolutions.
+const GONE_LIVE_TEETH: u8 = 2;
 
 /// The hand-over inside a period (`ToothRecord::handover_z`) decides beyond this many
 /// standard deviations: a loss and a gain of independent noise each past it, 1e-9 a bin
@@ -555,9 +575,10 @@ pub const TRIP_SHARE: f32 = 0.5;
 /// ... armed only when no run of the newest `j <= N` teeth lost more than this many
 /// standard deviations of its sum (`sqrt(j) sigma_R`) from one revolution earlier.
 const TRIP_QUIET_SIGMAS: f32 = 3.0;
-/// ... and only where the feed per tooth is at most this share of the radius: beyond, the
-/// second tooth of an exit through a face can lose half its force.
-pub const TRIP_MAX_TC_PER_R: f32 = 0.06;
+/// ... raised where an exit through a face could take that much from the next period
+/// (`Alarms::trip_share`); beyond this share it is not armed (a broken flute's period,
+/// with the next flute's gain in it, rarely loses more).
+const TRIP_MAX_SHARE: f32 = 0.9;
 /// A trip is named by the rules on the records after it, or after this many records: a
 /// lost tool leaves the tripped period partly cut and the two after it empty.
 pub const TRIP_NAMED_WITHIN: u8 = 3;
@@ -589,6 +610,11 @@ impl AlarmState {
     /// where it is not armed.
     pub fn trip_floor_n(&self) -> f32 {
         self.trip_floor_n
+    }
+
+    /// The drop trip's share (see [`TRIP_SHARE`]).
+    pub fn trip_share(&self) -> f32 {
+        self.trip_share
     }
 
     /// The output to the CNC is latched: an alarm, or a drop trip whose cause the next
@@ -1016,10 +1042,13 @@ impl Alarms {
             && !rec.status.contains(Status::TRANSIENT)
             && st.e_count as usize >= (2 * n).max(SETTLED_E)
             && self.cfg.breakage.signal == BreakageSignal::Resultant
-            && rec.tc_mm <= TRIP_MAX_TC_PER_R * self.est.tool.radius_mm
             && self.no_recent_loss(st, TRIP_QUIET_SIGMAS * TRIP_QUIET_SIGMAS * var_r)
         {
-            st.trip_floor_n = FIRST_TOOTH_SIGMAS * libm::sqrtf(var_r);
+            let sigma_r = libm::sqrtf(var_r);
+            if let Some(share) = self.trip_share(st, rec.tc_mm, sigma_r) {
+                st.trip_floor_n = FIRST_TOOTH_SIGMAS * sigma_r;
+                st.trip_share = share;
+            }
         }
 
         probe.mark(Stage::AlarmBreakage);
@@ -1039,13 +1068,22 @@ impl Alarms {
                 let falling = rev_change.is_some_and(|c| c < -FALLING_SHARE * m);
                 if m >= STRONG_SHARE * st.peak_force_n && !falling {
                     st.since_steady = 0;
+                    st.live_since_steady = 0;
                     st.steady_force_n = m;
                     st.steady_tc_mm = rec.tc_mm;
                 } else {
                     st.since_steady = st.since_steady.saturating_add(1);
+                    st.live_since_steady = st
+                        .live_since_steady
+                        .saturating_add((armed && f >= floor) as u8);
                 }
             }
-            _ => st.since_steady = st.since_steady.saturating_add(1),
+            _ => {
+                st.since_steady = st.since_steady.saturating_add(1);
+                st.live_since_steady = st
+                    .live_since_steady
+                    .saturating_add((armed && f >= floor) as u8);
+            }
         }
         if self.cfg.tool_gone.enabled && self.gone_candidate(st, rec, two_dead) {
             raise(Cause::ToolGone, f, self.est.force_floor_n);
@@ -1301,6 +1339,37 @@ impl Alarms {
         pairs > 0
     }
 
+    /// The drop trip's share for the next period, `None` where it is not armed: what the
+    /// next period of an exit through a face, its first tooth's loss hidden in the noise,
+    /// could lose, that is the exit's loss at a travel of two feeds per tooth past the
+    /// arc's far reach ([`crate::geometry::exit_loss_share`], at the last valid `R_r`;
+    /// without one, the worst `R_r`), plus `TRIP_QUIET_SIGMAS sigma_R` of the next tooth's
+    /// force one revolution earlier; at least [`TRIP_SHARE`], at most [`TRIP_MAX_SHARE`].
+    /// The exit's share is kept until the feed moves by 1 % or `R_r` by 0.01 (two square
+    /// roots saved on most teeth).
+    #[inline(never)]
+    fn trip_share(&self, st: &mut AlarmState, tc_mm: f32, sigma_r: f32) -> Option<f32> {
+        // (-1: no valid `R_r`, the worst one.)
+        let rr = st.held.map_or(-1.0, |(rr, _)| rr);
+        let (key_tc, key_rr) = st.exit_key;
+        let kept = libm::fabsf(tc_mm - key_tc) <= 0.01 * tc_mm && libm::fabsf(rr - key_rr) <= 0.01;
+        if !kept {
+            let x = 2.0 * tc_mm / self.est.tool.radius_mm;
+            st.exit_share = if rr < 0.0 {
+                // The largest share over `R_r`, at `R_r = 1 + q`.
+                let q = libm::sqrtf(crate::fmath::max(x * (2.0 - x), 0.0));
+                2.0 * q / (1.0 + q)
+            } else {
+                crate::geometry::exit_loss_share(rr, x)
+            };
+            st.exit_key = (tc_mm, rr);
+        }
+        let before = st.force(self.n - 1);
+        let need = st.exit_share + TRIP_QUIET_SIGMAS * sigma_r / before;
+        let need = crate::fmath::max(need, TRIP_SHARE);
+        (need <= TRIP_MAX_SHARE).then_some(need)
+    }
+
     /// Largest and smallest change from one revolution earlier, `F_k - F_{k+N}`, over the
     /// newest `N` teeth (the caller has the last `2 N` armed).
     #[inline(never)]
@@ -1468,6 +1537,7 @@ impl Alarms {
         (rec.status.contains(Status::NOT_CUTTING) || two_dead)
             && rec.tc_mm > 0.0
             && st.since_steady <= self.cfg.tool_gone.max_drop_revs as u32 * self.n as u32
+            && st.live_since_steady <= GONE_LIVE_TEETH
             && st.steady_force_n * crate::fmath::min(rec.tc_mm, st.steady_tc_mm)
                 > 3.0 * self.est.force_floor_n * st.steady_tc_mm
     }
@@ -1952,5 +2022,88 @@ mod tests {
             &[[0.0, 40.0, 40.0, 40.0], step, step, step].concat(),
         );
         assert_eq!(first_breakage(&f), None);
+    }
+
+    /// The first event (index and cause) of the forces fed as records of a 5 N floor, each
+    /// with the status `status(i, force)`.
+    fn first_event(f: &[f32], status: impl Fn(usize, f32) -> Status) -> Option<(usize, Cause)> {
+        let est = EstimatorConfig {
+            force_floor_n: 5.0,
+            ..EstimatorConfig::default()
+        };
+        let a = AlarmConfig::default().build(&est).unwrap();
+        let mut st = AlarmState::default();
+        f.iter().enumerate().find_map(|(i, &fx)| {
+            let out = a.process(&mut st, &record(i, fx, status(i, fx)));
+            out.event.map(|e| (i, e.cause))
+        })
+    }
+
+    #[test]
+    fn a_fade_over_two_revolutions_is_not_a_lost_tool_and_a_loss_after_a_forget_is() {
+        // A fast exit: the first tooth loses 10 % (the cut still steady), then every tooth
+        // less, under the floor on the eighth, two revolutions after the last steady
+        // record. Only the two empty teeth at the end look like a lost tool's.
+        let share = [
+            0.9, 0.55, 0.35, 0.22, 0.14, 0.09, 0.06, 0.02, 0.01, 0.0, 0.0, 0.0,
+        ];
+        let level = |k: usize| if k % 4 == 0 { 130.0 } else { 100.0 };
+        let mut f = forces(1.0, 20, &[]);
+        f.extend(share.iter().enumerate().map(|(j, s)| s * level(80 + j)));
+        f.extend([0.0; 8]);
+        let cut = |_: usize, fx: f32| {
+            if fx > 5.0 {
+                Status::AMBIGUOUS
+            } else {
+                Status::NOT_CUTTING
+            }
+        };
+        assert_eq!(first_event(&f, cut), None);
+        // The tool lost right after the window moved (two records with force but without
+        // good data): caught on the first empty tooth.
+        let mut f = forces(1.0, 20, &[]);
+        f.extend([100.0, 100.0, 40.0]);
+        f.extend([0.0; 8]);
+        let moved = |i: usize, fx: f32| match i {
+            80 => Status::WINDOW_MOVED,
+            81 => Status::PERIOD_INVALID,
+            _ => cut(i, fx),
+        };
+        assert_eq!(first_event(&f, moved), Some((83, Cause::ToolGone)));
+    }
+
+    /// The drop trip's share after a steady cut at feed `tc_mm` (radius 8 mm, no valid
+    /// estimate: the worst `R_r`); `None` where not armed.
+    fn trip_share_at(tc_mm: f32) -> Option<f32> {
+        let est = EstimatorConfig::default();
+        let a = AlarmConfig::default().build(&est).unwrap();
+        let mut st = AlarmState::default();
+        for (i, &fx) in forces(1.0, 20, &[]).iter().enumerate() {
+            let rec = ToothRecord {
+                tc_mm,
+                ..record(i, fx, Status::AMBIGUOUS)
+            };
+            a.process(&mut st, &rec);
+        }
+        st.trip_floor_n().is_finite().then(|| st.trip_share())
+    }
+
+    #[test]
+    fn the_drop_trip_asks_more_than_an_exit_can_take() {
+        assert_eq!(EstimatorConfig::default().tool.radius_mm, 8.0);
+        // 0.05 mm: an exit's second tooth loses at most 2q/(1+q) = 27 % (q = 0.16).
+        assert_eq!(trip_share_at(0.05), Some(TRIP_SHARE));
+        // 0.2 mm: 48 %, and 3 sigma_R of a 1 N noise on 100 N (about 4 %); 1 mm: 80 %.
+        for (tc_mm, x) in [(0.2, 0.05), (1.0, 0.25)] {
+            let share = trip_share_at(tc_mm).unwrap();
+            let q = libm::sqrtf(x * (2.0 - x));
+            let bound = 2.0 * q / (1.0 + q);
+            assert!(
+                share > bound + 0.03 && share < bound + 0.06,
+                "{share} vs {bound}"
+            );
+        }
+        // 2 mm: 93 %, not armed.
+        assert_eq!(trip_share_at(2.0), None);
     }
 }

@@ -117,6 +117,30 @@ pub fn arc_sin(rr: f32) -> f32 {
     libm::sqrtf(crate::fmath::max(rr * (2.0 - rr), 0.0))
 }
 
+/// Share of a cut's force an exit through a face square to the feed has taken once the
+/// arc's far reach is `x R` past the face (`x >= 0`), for radial immersion `rr`.
+///
+/// The points of the arc `R sin(phi)` ahead of the centre beyond the face cut nothing: the
+/// angles with `sin(phi) > s - x`, `s` the largest `sin` on the arc (1 when the arc holds
+/// `pi/2`, `R_r >= 1`; `sin(arc)` at its end otherwise). With the chip `t_c sin(phi)` the
+/// force lost is `int sin` over them: `q + min(q, R_r - 1)` with `q = sqrt(1 - (s - x)^2)`,
+/// of `int sin = R_r` over the arc; both modes (mirror images). Where the arc holds
+/// `pi/2` the loss grows as the square root of the travel: the thickest chip leaves first,
+/// and fast. Edge forces (in proportion to the arc's length) and the chip exponent of the
+/// cutting coefficient spread the loss more evenly: this share is an upper bound for them.
+pub fn exit_loss_share(rr: f32, x: f32) -> f32 {
+    let rr = rr.clamp(1e-6, 2.0);
+    let s = if rr >= 1.0 { 1.0 } else { arc_sin(rr) };
+    let y = s - crate::fmath::max(x, 0.0);
+    // (Not `<=`: a NaN, from a NaN `R_r`, counts as everything gone.)
+    #[allow(clippy::neg_cmp_op_on_partial_ord)]
+    if !(y > 0.0) {
+        return 1.0;
+    }
+    let q = libm::sqrtf(crate::fmath::max(1.0 - y * y, 0.0));
+    crate::fmath::min((q + crate::fmath::min(q, rr - 1.0)) / rr, 1.0)
+}
+
 /// The integrals over the engaged arc behind eq. 7, without the factor
 /// `tan(beta) / phi_N` that cancels in every force (the paper's `A_r = tan(beta)/phi_N * a`):
 /// `a = int sin cos`, `b = int sin^2`, `c = int sin`, plus the arc itself.
@@ -161,5 +185,52 @@ impl ArcIntegrals {
             c: rr,
             arc,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `int sin` over the arc's angles whose point lies beyond the face, over `int sin` on
+    /// the whole arc, by the midpoint rule on a million angles.
+    fn exit_loss_brute(mode: MillingMode, rr: f64, x: f64) -> f64 {
+        let (a, b) = entry_exit_rad(mode, rr as f32);
+        let (a, b) = (f64::from(a), f64::from(b));
+        let steps = 1_000_000;
+        let h = (b - a) / steps as f64;
+        let reach = (0..=1000)
+            .map(|i| (a + (b - a) * i as f64 / 1000.0).sin())
+            .fold(0.0f64, f64::max);
+        let (mut lost, mut all) = (0.0, 0.0);
+        for i in 0..steps {
+            let s = (a + (i as f64 + 0.5) * h).sin();
+            all += s;
+            if s > reach - x {
+                lost += s;
+            }
+        }
+        lost / all
+    }
+
+    #[test]
+    fn the_exit_loss_is_the_chip_of_the_angles_beyond_the_face() {
+        for mode in [MillingMode::Down, MillingMode::Up] {
+            for rr in [0.05, 0.2, 0.5, 0.9, 1.0, 1.1, 1.365, 1.7, 2.0] {
+                for x in [0.0, 0.001, 0.01, 0.03, 0.0625, 0.12, 0.3, 0.7, 1.5] {
+                    let want = exit_loss_brute(mode, rr, x);
+                    let got = f64::from(exit_loss_share(rr as f32, x as f32));
+                    assert!(
+                        (got - want).abs() < 2e-3,
+                        "{mode:?} rr {rr} x {x}: {got} vs {want}"
+                    );
+                }
+            }
+        }
+        // The square-root growth where the arc holds pi/2: half the force gone after a
+        // travel of 1/16 of the radius at R_r = 1.35.
+        assert!(exit_loss_share(1.35, 0.0625) > 0.5);
+        assert!(exit_loss_share(0.3, 0.0625) < 0.25);
+        assert_eq!(exit_loss_share(f32::NAN, 0.1), 1.0);
     }
 }

@@ -36,9 +36,9 @@
 //! trips ([`Handover::arm_trip`], [`Handover::take_trip`]), mid-period. The alarm stage
 //! arms it after each record only where a drop alone is a broken flute (or a lost tool):
 //! out of a steady cut with a settled noise figure, the teeth before not losing (an
-//! exit's teeth all lose, the newest most; its first tooth loses at most about a third
-//! of its force), a share of half, at least 6 standard deviations of the tooth's change
-//! ([`crate::alarm`]). The monitor lets a trip pass only with the feed speed at it within
+//! exit's teeth all lose, the newest most), a share of half or more (what an exit whose
+//! first tooth's loss hid in the noise could take from its second), at least 6 standard
+//! deviations of the tooth's change ([`crate::alarm`]). The monitor lets a trip pass only with the feed speed at it within
 //! [`crate::monitor::TRIP_FEED_SHARE`] of the last period's: a feed hold thins every chip
 //! at once, the open period's first. Per sample a compare; per bin a division and an add.
 //!

@@ -3,7 +3,7 @@
 //! The firmware's monitor task and host-sim's replay both run exactly this, so that the
 //! records and the alarms they produce from the same samples are the same bit for bit.
 
-use crate::alarm::{AlarmConfig, AlarmOutput, AlarmState, Alarms, TRIP_SHARE};
+use crate::alarm::{AlarmConfig, AlarmOutput, AlarmState, Alarms};
 use crate::frontend::FrontEnd;
 use crate::monitor::{Monitor, MonitorConfig, MonitorState, Sample, ToothRecord};
 use crate::probe::{NoProbe, Probe, Stage};
@@ -144,7 +144,7 @@ impl Pipeline {
         self.monitor.arm_trip(
             &mut st.monitor,
             &st.last,
-            TRIP_SHARE,
+            st.alarms.trip_share(),
             st.alarms.trip_floor_n(),
         );
         (rec, out)
