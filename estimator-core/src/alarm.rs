@@ -1062,28 +1062,24 @@ impl Alarms {
         // revolution; a quick exit (a few revolutions) passes through strong on its way
         // down and would otherwise look like a collapse at its end.
         st.peak_force_n *= self.peak_decay;
-        match rev_mean {
+        let steady = match rev_mean {
             Some(m) if armed => {
                 st.peak_force_n = crate::fmath::max(st.peak_force_n, m);
                 let falling = rev_change.is_some_and(|c| c < -FALLING_SHARE * m);
-                if m >= STRONG_SHARE * st.peak_force_n && !falling {
-                    st.since_steady = 0;
-                    st.live_since_steady = 0;
-                    st.steady_force_n = m;
-                    st.steady_tc_mm = rec.tc_mm;
-                } else {
-                    st.since_steady = st.since_steady.saturating_add(1);
-                    st.live_since_steady = st
-                        .live_since_steady
-                        .saturating_add((armed && f >= floor) as u8);
-                }
+                m >= STRONG_SHARE * st.peak_force_n && !falling
             }
-            _ => {
-                st.since_steady = st.since_steady.saturating_add(1);
-                st.live_since_steady = st
-                    .live_since_steady
-                    .saturating_add((armed && f >= floor) as u8);
-            }
+            _ => false,
+        };
+        if let (true, Some(m)) = (steady, rev_mean) {
+            st.since_steady = 0;
+            st.live_since_steady = 0;
+            st.steady_force_n = m;
+            st.steady_tc_mm = rec.tc_mm;
+        } else {
+            st.since_steady = st.since_steady.saturating_add(1);
+            st.live_since_steady = st
+                .live_since_steady
+                .saturating_add((armed && f >= floor) as u8);
         }
         if self.cfg.tool_gone.enabled && self.gone_candidate(st, rec, two_dead) {
             raise(Cause::ToolGone, f, self.est.force_floor_n);
@@ -1693,17 +1689,22 @@ mod tests {
         None
     }
 
+    /// The default alarms over a not-cutting floor of 5 N.
+    fn alarms_at_5n() -> Alarms {
+        let est = EstimatorConfig {
+            force_floor_n: 5.0,
+            ..EstimatorConfig::default()
+        };
+        AlarmConfig::default().build(&est).unwrap()
+    }
+
     /// Feeds the forces as records of a steady cut (not flagged transient, the first-tooth
     /// rules apply; `AMBIGUOUS` keeps the threshold on the measured force) until the first
     /// tooth in `gone_from..` where nothing cuts; returns the index where the output first
     /// latched, and the first event's: index, index of the record it carries, cause.
     #[allow(clippy::type_complexity)]
     fn first_latch(f: &[f32], gone_from: usize) -> (Option<usize>, Option<(usize, usize, Cause)>) {
-        let est = EstimatorConfig {
-            force_floor_n: 5.0,
-            ..EstimatorConfig::default()
-        };
-        let a = AlarmConfig::default().build(&est).unwrap();
+        let a = alarms_at_5n();
         let mut st = AlarmState::default();
         let (mut latch, mut event) = (None, None);
         for (i, &fx) in f.iter().enumerate() {
@@ -1729,11 +1730,7 @@ mod tests {
     /// its period passes. Returns whether the output latched at the trip, and the first
     /// event: index and cause.
     fn trip_then(f: &[f32], trip_at: usize, gone_from: usize) -> (bool, Option<(usize, Cause)>) {
-        let est = EstimatorConfig {
-            force_floor_n: 5.0,
-            ..EstimatorConfig::default()
-        };
-        let a = AlarmConfig::default().build(&est).unwrap();
+        let a = alarms_at_5n();
         let mut st = AlarmState::default();
         let (mut latched, mut event) = (false, None);
         for (i, &fx) in f.iter().enumerate() {
@@ -1886,11 +1883,7 @@ mod tests {
         forget: usize,
         gone_from: usize,
     ) -> Option<(usize, Cause)> {
-        let est = EstimatorConfig {
-            force_floor_n: 5.0,
-            ..EstimatorConfig::default()
-        };
-        let a = AlarmConfig::default().build(&est).unwrap();
+        let a = alarms_at_5n();
         let mut st = AlarmState::default();
         for (i, &fx) in f.iter().enumerate() {
             let status = match i {
@@ -2027,11 +2020,7 @@ mod tests {
     /// The first event (index and cause) of the forces fed as records of a 5 N floor, each
     /// with the status `status(i, force)`.
     fn first_event(f: &[f32], status: impl Fn(usize, f32) -> Status) -> Option<(usize, Cause)> {
-        let est = EstimatorConfig {
-            force_floor_n: 5.0,
-            ..EstimatorConfig::default()
-        };
-        let a = AlarmConfig::default().build(&est).unwrap();
+        let a = alarms_at_5n();
         let mut st = AlarmState::default();
         f.iter().enumerate().find_map(|(i, &fx)| {
             let out = a.process(&mut st, &record(i, fx, status(i, fx)));
