@@ -16,7 +16,9 @@
 //!   and gives a `-, +, -` burst. Threshold `max(k F_expected, 4.5 sigma_E)`, widened by the
 //!   revolution-mean growth (flutes of unequal chip grow at unequal rates during an entry);
 //!   `sigma_E` is E's running spread (a plain mean over the first 32 values, then
-//!   exponential). An alarm on either of:
+//!   exponential; the rules decide from 16 values on, the variance scaled by `32 / count`
+//!   until 32, so that a flute lost in a 2-flute tool's first 16 revolutions is seen). An
+//!   alarm on either of:
 //!   - `debounce_teeth` exceedances of `|E_i|` within one revolution, of both signs (a change
 //!     of engagement moves every tooth one way, and a step that falls inside a tooth period
 //!     gives two exceedances of one sign), or one of three times the threshold. The first
@@ -527,10 +529,15 @@ impl Default for AlarmState {
     }
 }
 
-/// E values the breakage rules wait for (and at least two revolutions'): a spread from
-/// fewer is too uncertain for a 4.5-sigma floor (a cut entered through a face grows
-/// unevenly tooth to tooth for its first revolutions).
+/// E values of a settled spread: from fewer it is too uncertain for a 4.5-sigma floor (a
+/// cut entered through a face grows unevenly tooth to tooth for its first revolutions).
 const SETTLED_E: usize = 32;
+/// E values the breakage rules wait for (and at least two revolutions'); up to
+/// [`SETTLED_E`] the variance is scaled by `SETTLED_E / count` (the floor by up to
+/// `sqrt 2`). 32 values are 16 revolutions of a 2-flute tool: a flute broken within them
+/// (7 revolutions into a held-out seed's cut) was the steady pattern before the rules
+/// looked, and its alarm came at the exit.
+const SETTLED_E_MIN: usize = 16;
 /// Weight of a new E in its running variance (memory of about 32 teeth).
 const E_ALPHA: f32 = 1.0 / 32.0;
 /// Breakage threshold floor, in standard deviations of E. Not 4: one tooth's noise
@@ -884,10 +891,12 @@ impl Alarms {
                 // the threshold, so that a breakage cannot raise it). Light cuts, where a
                 // sensor's noise is large against the force, would otherwise alarm on it.
                 // The spread is updated after the decision, and not by an exceedance.
-                let e_var = st.e_var;
                 let clip = k * measured;
                 let mut exceeded = false;
-                let settled = st.e_count as usize >= (2 * n).max(SETTLED_E);
+                let (settled, e_var) = match self.decision_var(st) {
+                    Some(v) => (true, v),
+                    None => (false, st.e_var),
+                };
                 // Cheap screen first: the model threshold is only needed near the limit, and
                 // no threshold is below `max(screen, floor)`: the square root is taken only
                 // past `screen`, the model only past that.
@@ -977,7 +986,7 @@ impl Alarms {
                 let moved = !(r0 <= FIRST_TOOTH_SHARE * before);
                 if moved && rev_change.is_some() {
                     if let Some((value, threshold)) =
-                        self.first_tooth(st, r0, before, prev_steady, settled)
+                        self.first_tooth(st, r0, before, prev_steady, settled.then_some(e_var))
                     {
                         raise(Cause::Breakage, value, threshold);
                     }
@@ -1031,7 +1040,7 @@ impl Alarms {
         // The drop trip for the next period: out of a steady cut with a settled noise
         // figure, no run of the newest teeth losing force (an exit's teeth all lose).
         st.trip_floor_n = f32::INFINITY;
-        let var_r = 0.5 * st.e_var;
+        let noise = self.decision_var(st);
         // Armed from the first tooth that has its own a revolution earlier (not only with
         // two revolutions armed): a flute broken just after the history was forgotten (the
         // window moved) would otherwise be caught only past a revolution.
@@ -1040,14 +1049,17 @@ impl Alarms {
             && st.latched.is_none()
             && st.trip.is_none()
             && !rec.status.contains(Status::TRANSIENT)
-            && st.e_count as usize >= (2 * n).max(SETTLED_E)
             && self.cfg.breakage.signal == BreakageSignal::Resultant
-            && self.no_recent_loss(st, TRIP_QUIET_SIGMAS * TRIP_QUIET_SIGMAS * var_r)
         {
-            let sigma_r = libm::sqrtf(var_r);
-            if let Some(share) = self.trip_share(st, rec.tc_mm, sigma_r) {
-                st.trip_floor_n = FIRST_TOOTH_SIGMAS * sigma_r;
-                st.trip_share = share;
+            if let Some(var) = noise {
+                let var_r = 0.5 * var;
+                if self.no_recent_loss(st, TRIP_QUIET_SIGMAS * TRIP_QUIET_SIGMAS * var_r) {
+                    let sigma_r = libm::sqrtf(var_r);
+                    if let Some(share) = self.trip_share(st, rec.tc_mm, sigma_r) {
+                        st.trip_floor_n = FIRST_TOOTH_SIGMAS * sigma_r;
+                        st.trip_share = share;
+                    }
+                }
             }
         }
 
@@ -1366,6 +1378,21 @@ impl Alarms {
         (need <= TRIP_MAX_SHARE).then_some(need)
     }
 
+    /// E's variance for the breakage thresholds and the drop trip, `None` before
+    /// [`SETTLED_E_MIN`] values (and two revolutions'); scaled by `SETTLED_E / count` under
+    /// [`SETTLED_E`].
+    fn decision_var(&self, st: &AlarmState) -> Option<f32> {
+        let m = st.e_count as usize;
+        if m < (2 * self.n).max(SETTLED_E_MIN) {
+            return None;
+        }
+        Some(if m < SETTLED_E {
+            st.e_var * (SETTLED_E as f32 / m as f32)
+        } else {
+            st.e_var
+        })
+    }
+
     /// Largest and smallest change from one revolution earlier, `F_k - F_{k+N}`, over the
     /// newest `N` teeth (the caller has the last `2 N` armed).
     #[inline(never)]
@@ -1405,10 +1432,10 @@ impl Alarms {
         r0: f32,
         before: f32,
         prev_steady: bool,
-        settled: bool,
+        var: Option<f32>,
     ) -> Option<(f32, f32)> {
         let n = self.n;
-        let sigma_r = libm::sqrtf(0.5 * st.e_var);
+        let sigma_r = libm::sqrtf(0.5 * var.unwrap_or(st.e_var));
         let t = crate::fmath::max(FIRST_TOOTH_SHARE * before, FIRST_TOOTH_SIGMAS * sigma_r);
         let quiet_bound = FIRST_TOOTH_QUIET_SIGMAS * sigma_r;
         // A tooth alone, only out of a steady cut: an entry, exit or other ramp (the
@@ -1423,10 +1450,9 @@ impl Alarms {
         } else {
             (1u64 << bits) - 1
         };
-        let noise_known = st.e_count as f32 >= 1.0 / E_ALPHA;
         if prev_steady
             && st.armed & mask == mask
-            && noise_known
+            && var.is_some()
             && st.tooth(0) == st.tooth(n)
             && r0 > t
             && self.quiet(st, quiet_teeth, quiet_bound)
@@ -1441,7 +1467,7 @@ impl Alarms {
         // as a first-tooth drop), the teeth before the drop unchanged. The drop itself may
         // have been partial (the flute broke inside its period); an engagement step moves
         // both teeth the same way.
-        let handed = settled
+        let handed = var.is_some()
             && n >= 2
             && r0 > t
             && st.tooth(1) == st.tooth(n + 1)
@@ -1873,6 +1899,21 @@ mod tests {
             *x *= 1.0 - 0.8 * libm::sqrtf(((j + 1) as f32 / 5.0).min(1.0));
         }
         assert_eq!(first_latch(&f, usize::MAX), (None, None));
+    }
+
+    /// E is there from the ninth record of a 4-flute cut: 16 values (the least the rules
+    /// decide on, their floor widened by `sqrt(32 / 16)`) by record 24, the 32 of a settled
+    /// spread only by record 40. A flute lost in between is the steady pattern by then.
+    #[test]
+    fn a_flute_lost_in_the_first_revolutions_of_a_cut_is_caught() {
+        let broken = [0.0, -100.0, 100.0, 0.0];
+        let f = forces(3.0, 7, &[broken, broken, broken, broken].concat());
+        assert_eq!(
+            first_latch(&f, usize::MAX),
+            (Some(30), Some((30, 30, Cause::Breakage)))
+        );
+        let steady = forces(3.0, 11, &[]);
+        assert_eq!(first_latch(&steady, usize::MAX), (None, None));
     }
 
     /// A steady cut whose tooth history is forgotten at record `forget` (the window moved;
