@@ -16,7 +16,7 @@
 //!
 //! Learning: per sample, the raw feed and spindle channels are summed into
 //! [`PROFILE_BINS`] bins of the open tooth period. After [`REVIEW_REVS`] revolutions of
-//! steady cutting (the monitor calls [`Window::review`] with every record), the monitor
+//! steady cutting, once a cut (the monitor calls [`Window::review`] with every record), the monitor
 //! converts the bins to forces, and the boundary moves to the middle of the bin of least
 //! resultant force if the current boundary's two bins are above that by more than
 //! [`MOVE_SHARE`] of the profile's mean (squared resultants; hysteresis: a flat profile,
@@ -90,7 +90,7 @@ pub struct WindowState {
     periods: u32,
     /// The last record was a steady cut: samples go into the profile.
     learning: bool,
-    /// The boundary moved in this cut (it moves once a cut).
+    /// The boundary was reviewed in this cut (once a cut).
     placed: bool,
 }
 
@@ -187,8 +187,8 @@ impl Window {
         core::mem::take(&mut st.moved)
     }
 
-    /// Once per record, with its status: counts steady periods and, every
-    /// [`REVIEW_REVS`] revolutions of them, moves the boundary to the least-force bin of
+    /// Once per record, with its status: counts steady periods and, after the first
+    /// [`REVIEW_REVS`] revolutions of them in a cut, moves the boundary to the least-force bin of
     /// the profile. `force2` converts a bin's raw means `[feed X, feed Y, spindle]` to the
     /// squared resultant force. Returns whether the boundary moved.
     ///
@@ -228,6 +228,11 @@ impl Window {
             mean += *r;
         }
         self.restart(st);
+        // One review a cut: a boundary that passes it stays for the cut. Reviewed again,
+        // a profile near the move's margin would tip over on any change of a few per cent
+        // (a flute breaking inside its period), and the move would make the detectors
+        // forget their history just when it is needed.
+        st.placed = true;
         let mean = mean / PROFILE_BINS as f32;
         let (mut j, mut least) = (0usize, f32::INFINITY);
         for (k, &r) in r2.iter().enumerate() {
@@ -245,7 +250,6 @@ impl Window {
         let shift = ((2 * j as u32 + 1) << 16) / (2 * PROFILE_BINS as u32);
         st.phase = st.phase.wrapping_add(shift as u16);
         st.epoch = st.epoch.wrapping_add(1);
-        st.placed = true;
         true
     }
 

@@ -53,12 +53,16 @@ fn config(align: bool) -> MonitorConfig {
 
 /// Records of `revs` revolutions, the cut starting after ten.
 fn run(align: bool, flat: bool, revs: usize) -> Vec<ToothRecord> {
+    run_with(align, revs, |i| force(i, 10 * FLUTES * PITCH, flat))
+}
+
+/// Records of `revs` revolutions of the force `f(sample)`.
+fn run_with(align: bool, revs: usize, f: impl Fn(usize) -> f32) -> Vec<ToothRecord> {
     let m = config(align).build().unwrap();
     let mut st = Default::default();
-    let start = 10 * FLUTES * PITCH;
     let mut out = Vec::new();
     for i in 0..revs * FLUTES * PITCH {
-        let f = force(i, start, flat);
+        let f = f(i);
         let s = Sample {
             feed: [-0.5 * f, f],
             feed_velocity_mm_min: [600.0, 0.0],
@@ -146,4 +150,26 @@ fn a_cut_without_a_gap_leaves_the_windows_where_they_are() {
     assert!(recs
         .iter()
         .all(|r| !r.status.contains(Status::WINDOW_MOVED)));
+}
+
+/// The boundary is reviewed once a cut. A cut whose flutes are always engaged passes its
+/// review; when its flutes later leave gaps (a profile that would move the boundary, as a
+/// flute breaking inside its period shifts one near the margin), the boundary stays: a
+/// move makes the detectors forget their history. A new cut, after air, is reviewed again.
+#[test]
+fn the_boundary_is_reviewed_once_a_cut() {
+    let rev = FLUTES * PITCH;
+    let profile = |i: usize| match i / rev {
+        0..10 | 90..100 => 0.0,
+        10..40 => force(i, 0, true),
+        _ => force(i, 0, false),
+    };
+    let recs = run_with(true, 160, profile);
+    let moved: Vec<usize> = recs
+        .iter()
+        .filter(|r| r.status.contains(Status::WINDOW_MOVED))
+        .map(|r| r.end_sample as usize / rev)
+        .collect();
+    assert_eq!(moved.len(), 1, "moves once, in the second cut: {moved:?}");
+    assert!(moved[0] > 100, "{moved:?}");
 }
