@@ -5,8 +5,8 @@
 //! +X at `t_c * N * rpm`. On top of the per-tooth averages of `average_forces`: a
 //! within-tooth ripple (zero mean over a tooth), runout (flute factors with unit mean over a
 //! revolution) and uniform noise from a fixed-seed xorshift. Events, so that most status
-//! paths show up: air cut (not cutting), entry (transient, settling), a step in radial
-//! engagement, a NaN spindle sample (input fault), a lost sync pulse (period invalid), a
+//! paths show up: air cut (not cutting), entry (transient, settling), a rise of radial
+//! engagement over 3 revolutions, a NaN spindle sample (input fault), a lost sync pulse (period invalid), a
 //! feed override (feed change), exit into an air cut.
 //!
 //! Length: 5.2 s = 26 000 samples = 624 KB as a TMS1 blob (24 bytes per sample), well
@@ -49,9 +49,13 @@ pub struct SynthRow {
 fn schedule(i: u32) -> (f32, f32, f32) {
     let t = i as f32 / SAMPLE_RATE_HZ;
     let tc = if t < 3.6 { 0.15 } else { 0.18 };
+    // The radial engagement grows over 3 revolutions, as a wall entered over travel does:
+    // a step inside one tooth period is what a flute taking a broken one's chip looks
+    // like to the breakage rules' first tooth.
     let rr = match t {
         t if t < 0.3 => 0.0,
         t if t < 1.4 => 0.5,
+        t if t < 1.7 => 0.5 + 0.7 * (t - 1.4) / 0.3,
         t if t < 4.6 => 1.2,
         _ => 0.0,
     };
