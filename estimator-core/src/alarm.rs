@@ -893,10 +893,8 @@ impl Alarms {
                 // The spread is updated after the decision, and not by an exceedance.
                 let clip = k * measured;
                 let mut exceeded = false;
-                let (settled, e_var) = match self.decision_var(st) {
-                    Some(v) => (true, v),
-                    None => (false, st.e_var),
-                };
+                let noise = self.decision_var(st);
+                let (settled, e_var) = (noise.is_some(), noise.unwrap_or(st.e_var));
                 // Cheap screen first: the model threshold is only needed near the limit, and
                 // no threshold is below `max(screen, floor)`: the square root is taken only
                 // past `screen`, the model only past that.
@@ -986,7 +984,7 @@ impl Alarms {
                 let moved = !(r0 <= FIRST_TOOTH_SHARE * before);
                 if moved && rev_change.is_some() {
                     if let Some((value, threshold)) =
-                        self.first_tooth(st, r0, before, prev_steady, settled.then_some(e_var))
+                        self.first_tooth(st, r0, before, prev_steady, noise)
                     {
                         raise(Cause::Breakage, value, threshold);
                     }
@@ -1434,8 +1432,10 @@ impl Alarms {
         prev_steady: bool,
         var: Option<f32>,
     ) -> Option<(f32, f32)> {
+        // Both rules need a noise figure the rules may decide on.
+        let var = var?;
         let n = self.n;
-        let sigma_r = libm::sqrtf(0.5 * var.unwrap_or(st.e_var));
+        let sigma_r = libm::sqrtf(0.5 * var);
         let t = crate::fmath::max(FIRST_TOOTH_SHARE * before, FIRST_TOOTH_SIGMAS * sigma_r);
         let quiet_bound = FIRST_TOOTH_QUIET_SIGMAS * sigma_r;
         // A tooth alone, only out of a steady cut: an entry, exit or other ramp (the
@@ -1452,7 +1452,6 @@ impl Alarms {
         };
         if prev_steady
             && st.armed & mask == mask
-            && var.is_some()
             && st.tooth(0) == st.tooth(n)
             && r0 > t
             && self.quiet(st, quiet_teeth, quiet_bound)
@@ -1467,8 +1466,7 @@ impl Alarms {
         // as a first-tooth drop), the teeth before the drop unchanged. The drop itself may
         // have been partial (the flute broke inside its period); an engagement step moves
         // both teeth the same way.
-        let handed = var.is_some()
-            && n >= 2
+        let handed = n >= 2
             && r0 > t
             && st.tooth(1) == st.tooth(n + 1)
             && r1 < -quiet_bound
