@@ -405,17 +405,21 @@ pub struct AlarmEvent {
     pub value: f32,
     /// The threshold it crossed.
     pub threshold: f32,
-    /// The record that raised it.
+    /// The record that raised it (or named the cause of a drop trip before it).
     pub record: ToothRecord,
+    /// Sample at which the output latched (the wear warning: rose): the record's last
+    /// sample, or, for a drop trip inside a period, the sample that tripped, up to
+    /// [`TRIP_NAMED_WITHIN`] records before the one that names it. The latency the CNC
+    /// sees runs to here.
+    pub latched_sample: u64,
 }
 
 /// What the alarms say after a record.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub struct AlarmOutput {
-    /// Raised by this record (alarms and the wear warning's first crossing), or by the
-    /// record before: a first-tooth drop latches the output on its own record and comes
-    /// out here with the next, which names its cause (the event's `record` is the one
-    /// that latched).
+    /// Raised by this record (alarms and the wear warning's first crossing), or named by
+    /// it: a drop trip latched the output inside an earlier period (the event's
+    /// `latched_sample`), and this record's rules name its cause.
     pub event: Option<AlarmEvent>,
     /// An alarm is latched: the output to the CNC must drop.
     pub latched: bool,
@@ -483,9 +487,20 @@ pub struct AlarmState {
     /// (`R_r` -1: none valid).
     exit_share: f32,
     exit_key: (f32, f32),
-    /// A drop trip that latched the output: `(lost, limit)` [N] and the records left
-    /// before it is named a breakage.
-    trip: Option<(f32, f32, u8)>,
+    /// A drop trip that latched the output and waits for its name.
+    trip: Option<Trip>,
+}
+
+/// A drop trip that latched the output (see [`Alarms::trip`]).
+#[derive(Clone, Copy, Debug)]
+struct Trip {
+    /// The force lost and the limit it passed [N].
+    lost_n: f32,
+    limit_n: f32,
+    /// Records left before it is named a breakage.
+    left: u8,
+    /// The sample that tripped.
+    sample: u64,
 }
 
 impl Default for AlarmState {
@@ -1216,15 +1231,19 @@ impl Alarms {
         // A drop trip inside a period latched the output; its cause is named by the rules
         // on the records after it, else on the last of TRIP_NAMED_WITHIN: a lost tool when
         // the two newest teeth collapsed, a breakage otherwise.
-        if let Some((lost, limit, left)) = st.trip {
-            st.trip = None;
+        let mut latched_sample = rec.end_sample;
+        if let Some(trip) = st.trip.take() {
+            latched_sample = trip.sample;
             if raised.is_none() {
-                if left > 1 {
-                    st.trip = Some((lost, limit, left - 1));
+                if trip.left > 1 {
+                    st.trip = Some(Trip {
+                        left: trip.left - 1,
+                        ..trip
+                    });
                 } else if collapsed {
                     raised = Some((Cause::ToolGone, f, self.est.force_floor_n));
                 } else {
-                    raised = Some((Cause::Breakage, lost, limit));
+                    raised = Some((Cause::Breakage, trip.lost_n, trip.limit_n));
                 }
             }
         }
@@ -1236,17 +1255,23 @@ impl Alarms {
                 wear_warning: st.wear_warned,
             };
         }
-        Self::output_with_event(st, rec, raised, wear_event)
+        Self::output_with_event(st, rec, raised, wear_event, latched_sample)
     }
 
-    /// The drop trip passed inside the open period (see [`crate::handover`]): `lost` of
-    /// the tooth's force one revolution earlier against `limit` [N]. Latches the output;
-    /// the records after it name the cause (see `process`).
+    /// The drop trip passed inside the open period (see [`crate::handover`]) at `sample`:
+    /// `lost` of the tooth's force one revolution earlier against `limit` [N]. Latches the
+    /// output; the records after it name the cause (see `process`), and the event keeps
+    /// `sample` as its [`AlarmEvent::latched_sample`].
     #[cold]
     #[inline(never)]
-    pub fn trip(&self, st: &mut AlarmState, lost: f32, limit: f32) {
+    pub fn trip(&self, st: &mut AlarmState, lost: f32, limit: f32, sample: u64) {
         if st.latched.is_none() && st.trip.is_none() {
-            st.trip = Some((lost, limit, TRIP_NAMED_WITHIN));
+            st.trip = Some(Trip {
+                lost_n: lost,
+                limit_n: limit,
+                left: TRIP_NAMED_WITHIN,
+                sample,
+            });
         }
     }
 
@@ -1259,6 +1284,7 @@ impl Alarms {
         rec: &ToothRecord,
         raised: Option<(Cause, f32, f32)>,
         wear_event: Option<(f32, f32)>,
+        latched_sample: u64,
     ) -> AlarmOutput {
         let event = match (st.latched.is_none(), raised, wear_event) {
             (true, Some((cause, value, threshold)), _) => {
@@ -1267,6 +1293,7 @@ impl Alarms {
                     value,
                     threshold,
                     record: *rec,
+                    latched_sample,
                 };
                 st.latched = Some(e);
                 Some(e)
@@ -1276,6 +1303,7 @@ impl Alarms {
                 value,
                 threshold,
                 record: *rec,
+                latched_sample: rec.end_sample,
             }),
             _ => None,
         };
@@ -1744,6 +1772,8 @@ mod tests {
                 latch = Some(i);
             }
             if let (None, Some(e)) = (event, out.event) {
+                // Raised by a record's rules: latched at its last sample.
+                assert_eq!(e.latched_sample, e.record.end_sample);
                 event = Some((i, (e.record.end_sample / 250 - 1) as usize, e.cause));
             }
         }
@@ -1751,8 +1781,8 @@ mod tests {
     }
 
     /// Feeds the forces as `first_latch` does; before record `trip_at`, the drop trip of
-    /// its period passes. Returns whether the output latched at the trip, and the first
-    /// event: index and cause.
+    /// its period passes, at its 100th sample. Returns whether the output latched at the
+    /// trip, and the first event: index and cause. Every event carries the trip's sample.
     fn trip_then(f: &[f32], trip_at: usize, gone_from: usize) -> (bool, Option<(usize, Cause)>) {
         let a = alarms_at_5n();
         let mut st = AlarmState::default();
@@ -1760,7 +1790,7 @@ mod tests {
         for (i, &fx) in f.iter().enumerate() {
             if i == trip_at {
                 assert!(st.trip_floor_n().is_finite(), "armed out of the steady cut");
-                a.trip(&mut st, 100.0, 50.0);
+                a.trip(&mut st, 100.0, 50.0, trip_sample(trip_at));
                 latched = st.output_latched() && st.output_cause() == Some(Cause::Breakage);
             }
             let cutting = i < gone_from || fx > 5.0;
@@ -1772,10 +1802,17 @@ mod tests {
             let out = a.process(&mut st, &record(i, fx, status));
             assert_eq!(out.latched, i >= trip_at, "record {i}");
             if let (None, Some(e)) = (event, out.event) {
+                assert_eq!(e.latched_sample, trip_sample(trip_at), "record {i}");
+                assert!(e.record.end_sample > e.latched_sample);
                 event = Some((i, e.cause));
             }
         }
         (latched, event)
+    }
+
+    /// The sample of record `i`'s period (of 250, see `record`) where a trip passes.
+    fn trip_sample(i: usize) -> u64 {
+        250 * i as u64 + 100
     }
 
     /// The trip's arming, after steady forces with `after` appended.

@@ -432,6 +432,11 @@ impl Default for MonitorState {
 }
 
 impl MonitorState {
+    /// Index of the last sample fed (0-based).
+    pub fn last_sample(&self) -> u64 {
+        self.tooth.last_sample()
+    }
+
     /// Eq. 7's `[F_ax, F_at]` at the estimate of the last record that has one.
     #[inline(always)]
     pub(crate) fn model_n(&self) -> [f32; 2] {

@@ -108,7 +108,8 @@ impl Pipeline {
         match self.monitor.period(&mut st.monitor, s) {
             None => {
                 if let Some((lost, limit)) = self.monitor.take_trip(&mut st.monitor, s) {
-                    self.alarms.trip(&mut st.alarms, lost, limit);
+                    let at = st.monitor.last_sample();
+                    self.alarms.trip(&mut st.alarms, lost, limit, at);
                 }
                 None
             }

@@ -99,6 +99,13 @@ pub struct ToothState {
     rev_len: u32,
 }
 
+impl ToothState {
+    /// Index of the last sample fed (0-based; wraps only after 2^64 samples).
+    pub fn last_sample(&self) -> u64 {
+        self.sample.wrapping_sub(1)
+    }
+}
+
 impl Timing {
     /// Feeds one sample; returns a period when one closes.
     ///

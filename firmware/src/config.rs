@@ -60,8 +60,8 @@ pub const EDGE_QUEUE: usize = 16;
 /// counts it (`frames_dropped`); the host sees the gap in the sequence numbers too.
 pub const MESSAGE_QUEUE: usize = 8;
 
-/// Telemetry UART rate [baud]: a record frame is 140 bytes, 1 400 bits with start and stop
-/// bits, so 921 600 baud carries about 650 frames per second (every tooth up to 650
+/// Telemetry UART rate [baud]: a record frame is 144 bytes, 1 440 bits with start and stop
+/// bits, so 921 600 baud carries about 640 frames per second (every tooth up to 640
 /// teeth/s; above, set [`TelemetryConfig::record_every`]).
 pub const UART_BAUD: u32 = 921_600;
 

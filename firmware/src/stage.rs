@@ -193,11 +193,7 @@ impl MonitorStage {
             alarm: AlarmFields {
                 latched: out.latched,
                 wear_warning: out.wear_warning,
-                event: out.event.map(|e| EventFields {
-                    cause: e.cause,
-                    value: e.value,
-                    threshold: e.threshold,
-                }),
+                event: out.event.as_ref().map(EventFields::from),
                 wear: out.wear,
             },
             counters: self.counters(),

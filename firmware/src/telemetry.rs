@@ -15,7 +15,7 @@
 //! ```
 //!
 //! One kind for now, [`KIND_RECORD`]: one tooth record and the alarm state after it,
-//! P = [`RECORD_PAYLOAD_WORDS`] = 31, 140 bytes a frame:
+//! P = [`RECORD_PAYLOAD_WORDS`] = 32, 144 bytes a frame:
 //!
 //! ```text
 //! 0..21   ToothRecord::to_words(): every field's bits (end_sample lo/hi, tooth, samples,
@@ -30,9 +30,11 @@
 //! 26      wear multiplier, f32 bits
 //! 27..31  counters since start: samples lost (ADC ring overruns), sync edges late, sync
 //!         edges dropped, frames dropped (telemetry queue full)
+//! 31      the event's latch lead: samples from the output's latch to the record's last
+//!         sample (a drop trip latches inside an earlier period; 0 without an event)
 //!
-//! Format 2 (this one) added `handover_z`, `handover_n` to the record; format 1 frames
-//! (29 payload words) are skipped and counted as another format.
+//! Format 3 (this one) added the latch lead; format 2 added `handover_z`, `handover_n` to
+//! the record. Frames of other formats are skipped and counted as another format.
 //! ```
 //!
 //! The words are the record's exact bits, so a decoded stream equals host-sim's replay bit
@@ -42,20 +44,20 @@
 //! of flash, about 12 instructions per byte), rather than a 256-entry one (1 KiB, about
 //! 7) or bit by bit (about 40): the flash budget is the tight one.
 
-use estimator_core::alarm::Cause;
+use estimator_core::alarm::{AlarmEvent, Cause};
 use estimator_core::monitor::RECORD_WORDS;
 use estimator_core::{Method, Status, ToothRecord};
 
 /// First word of every frame: the bytes `TMON`.
 pub const MAGIC: u32 = u32::from_le_bytes(*b"TMON");
 /// Format of this layout; a decoder skips (and counts) frames of another format.
-pub const FORMAT: u8 = 2;
+pub const FORMAT: u8 = 3;
 /// Frame kind: a tooth record with the alarm state.
 pub const KIND_RECORD: u8 = 1;
 /// Words before the payload: magic, format/kind/length, sequence.
 pub const HEADER_WORDS: usize = 3;
 /// Payload words of a record frame.
-pub const RECORD_PAYLOAD_WORDS: usize = RECORD_WORDS + 10;
+pub const RECORD_PAYLOAD_WORDS: usize = RECORD_WORDS + 11;
 /// Words of a record frame, CRC included.
 pub const RECORD_FRAME_WORDS: usize = HEADER_WORDS + RECORD_PAYLOAD_WORDS + 1;
 /// Bytes of a record frame.
@@ -85,6 +87,21 @@ pub struct EventFields {
     pub value: f32,
     /// The threshold.
     pub threshold: f32,
+    /// Samples from the output's latch to the record's last sample (a drop trip latches
+    /// inside an earlier period; see `AlarmEvent::latched_sample`).
+    pub latch_lead: u32,
+}
+
+impl From<&AlarmEvent> for EventFields {
+    fn from(e: &AlarmEvent) -> Self {
+        EventFields {
+            cause: e.cause,
+            value: e.value,
+            threshold: e.threshold,
+            latch_lead: u32::try_from(e.record.end_sample.saturating_sub(e.latched_sample))
+                .unwrap_or(u32::MAX),
+        }
+    }
 }
 
 /// The alarm state after a record.
@@ -175,14 +192,24 @@ pub fn record_from_words(w: &[u32; RECORD_WORDS]) -> Option<ToothRecord> {
 }
 
 impl RecordFrame {
+    /// The sample at which the event's output latched (see [`EventFields::latch_lead`]).
+    pub fn latched_sample(&self) -> Option<u64> {
+        let e = self.alarm.event?;
+        Some(
+            self.record
+                .end_sample
+                .saturating_sub(u64::from(e.latch_lead)),
+        )
+    }
+
     /// The payload words (layout in the module docs).
     pub fn payload(&self) -> [u32; RECORD_PAYLOAD_WORDS] {
         let mut p = [0u32; RECORD_PAYLOAD_WORDS];
         p[..RECORD_WORDS].copy_from_slice(&self.record.to_words());
         let a = &self.alarm;
-        let (present, cause, value, threshold) = match a.event {
-            Some(e) => (1, cause_code(e.cause), e.value, e.threshold),
-            None => (0, 0, 0.0, 0.0),
+        let (present, cause, value, threshold, lead) = match a.event {
+            Some(e) => (1, cause_code(e.cause), e.value, e.threshold, e.latch_lead),
+            None => (0, 0, 0.0, 0.0, 0),
         };
         let c = &self.counters;
         let rest = [
@@ -196,6 +223,7 @@ impl RecordFrame {
             c.edges_late,
             c.edges_dropped,
             c.frames_dropped,
+            lead,
         ];
         p[RECORD_WORDS..].copy_from_slice(&rest);
         p
@@ -213,6 +241,7 @@ impl RecordFrame {
                 cause: cause_from_code((flags >> 8) as u8)?,
                 value: f32::from_bits(r[3]),
                 threshold: f32::from_bits(r[4]),
+                latch_lead: r[10],
             })
         } else {
             None
@@ -407,6 +436,7 @@ mod tests {
                     cause: Cause::Breakage,
                     value: 55.0,
                     threshold: 40.0,
+                    latch_lead: 77,
                 }),
                 wear: 1.01,
             },

@@ -246,7 +246,7 @@ pub struct DemoReport {
 impl DemoReport {
     /// Time from the scenario's first damage event to the first latching alarm [s].
     pub fn alarm_latency_s(&self) -> Option<f64> {
-        Some(self.replay.first_alarm?.time_s - self.damage?.time_s)
+        Some(self.replay.first_alarm?.latched_s - self.damage?.time_s)
     }
 
     /// The table, the alarm and the files, as printed.
@@ -358,15 +358,23 @@ impl DemoReport {
                     "alarm: {} at {:.3} s (record {}, tooth {}; force {:.1} N against a \
                      threshold of {:.1} N)",
                     a.event.cause.name(),
-                    a.time_s,
+                    a.latched_s,
                     a.index,
                     rec.tooth,
                     a.event.value,
                     a.event.threshold
                 );
+                if a.latched_s < a.time_s {
+                    let _ = write!(
+                        s,
+                        "\n  the output latched at a drop trip inside a period; record {} at \
+                         {:.3} s named the cause",
+                        a.index, a.time_s
+                    );
+                }
                 match damage {
-                    Some(d) if a.time_s >= d.time_s => {
-                        let l = a.time_s - d.time_s;
+                    Some(d) if a.latched_s >= d.time_s => {
+                        let l = a.latched_s - d.time_s;
                         let rev_s = 60.0 / f64::from(rec.rpm);
                         let tooth_s = f64::from(rec.samples) / r.sample_rate_hz;
                         let _ = write!(

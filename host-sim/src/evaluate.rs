@@ -592,7 +592,6 @@ pub fn run_case(case: &Case) -> Result<Outcome> {
         _ => Vec::new(),
     };
     let mut onset_s = None;
-    let mut latch_s = None;
     let mut sample = 0usize;
     let mut deficit = 0.0f64;
     let mut first_rev = 0.0f64;
@@ -614,10 +613,6 @@ pub fn run_case(case: &Case) -> Result<Outcome> {
         sample += 1;
         cutting_samples += u64::from(row.truth.dr_mm > 0.0);
         let out = pipeline.process(&mut st, &row.to_sample());
-        // A trip inside a period latches before its record.
-        if latch_s.is_none() && st.alarms.output_latched() {
-            latch_s = Some(row.time_s);
-        }
         if let Some((_, out)) = out {
             if let (None, Some(ev)) = (first_alarm, out.event) {
                 // The wear warning counts in the wear set only (elsewhere it does not stop
@@ -625,12 +620,7 @@ pub fn run_case(case: &Case) -> Result<Outcome> {
                 if ev.cause != Cause::Wear || case.kind == Kind::Wear {
                     // When the output latched: at the record that raised it, or before, at
                     // a drop trip inside a period whose cause the records after it name.
-                    let at = ev.record.time_s(fs as f32);
-                    let at = match (ev.cause, latch_s) {
-                        (Cause::Wear, _) | (_, None) => at,
-                        (_, Some(t)) => t.min(at),
-                    };
-                    first_alarm = Some((at, ev.cause));
+                    first_alarm = Some((ev.latched_sample as f64 / fs, ev.cause));
                 }
             }
         }

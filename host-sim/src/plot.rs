@@ -6,7 +6,7 @@
 //! `d_a` over the valid records with their ±2 sigma band, and the truth where the trace
 //! has it; (4) a status strip marking every record that is not valid, coloured by its main
 //! cause (the first flag of [`CAUSES`] it carries). Alarms are vertical lines through every
-//! panel, from [`PlotData::alarms`]: the times replay's alarm events were raised
+//! panel, from [`PlotData::alarms`]: the times replay's alarm events latched the output
 //! (see the alarm hook in [`crate::replay`]).
 //!
 //! Rendering is in memory (plotters' bitmap backend into a buffer, encoded with `png`; or
@@ -99,7 +99,7 @@ pub struct PlotData {
     pub dynamometer: bool,
     /// The records, in time order.
     pub points: Vec<PlotPoint>,
-    /// Alarm times [s] (vertical lines), from replay's alarm events.
+    /// Alarm times [s] (vertical lines): when replay's alarm events latched the output.
     pub alarms: Vec<f64>,
 }
 

@@ -80,10 +80,13 @@ pub struct ReplayEvent<'a> {
 /// flute damage (or tool loss) it came.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ReplayAlarm {
-    /// Index of the record that raised it.
+    /// Index of the record that raised it (or named a drop trip's cause).
     pub index: u64,
     /// Its time [s].
     pub time_s: f64,
+    /// When the output latched [s]: the record's time, or earlier for a drop trip inside
+    /// a period (see [`latched_time_s`]).
+    pub latched_s: f64,
     /// The event.
     pub event: AlarmEvent,
     /// Time since the truth first showed a damaged flute [s], if it did by then.
@@ -192,12 +195,19 @@ impl ReplaySummary {
         match (&self.first_alarm, self.damage_s) {
             (Some(a), _) => {
                 s.push_str(&format!(
-                    "alarm: {} at {:.4} s (record {}, tooth {})",
+                    "alarm: {} at {:.4} s (record {}, tooth {}",
                     a.event.cause.name(),
-                    a.time_s,
+                    a.latched_s,
                     a.index,
                     a.event.record.tooth
                 ));
+                if a.latched_s < a.time_s {
+                    s.push_str(&format!(
+                        "; a drop trip inside a period, named at {:.4} s",
+                        a.time_s
+                    ));
+                }
+                s.push(')');
                 if let (Some(l), Some(t)) = (a.latency_s, a.latency_teeth) {
                     s.push_str(&format!(
                         ", {:.1} ms = {:.1} teeth after the first flute damage",
@@ -322,11 +332,13 @@ impl PerRecord {
         if let Some(event) = alarm.event {
             s.alarm_events += 1;
             if s.first_alarm.is_none() && event.cause != Cause::Wear {
-                let latency_s = s.damage_s.map(|d| time_s - d);
+                let latched_s = latched_time_s(time_s, &event, s.sample_rate_hz);
+                let latency_s = s.damage_s.map(|d| latched_s - d);
                 let tooth_s = f64::from(rec.samples) / s.sample_rate_hz;
                 s.first_alarm = Some(ReplayAlarm {
                     index,
                     time_s,
+                    latched_s,
                     event,
                     latency_s,
                     latency_teeth: latency_s.map(|l| l / tooth_s),
@@ -489,17 +501,25 @@ pub struct ReplayOutputs {
     pub events: bool,
 }
 
-/// The alarm-events CSV (`--alarms`): one row per event, at the record that raised it.
-/// A drop trip inside a period (`estimator_core::handover`) latches the output before its
-/// record; its event comes with the record that names its cause, up to three records
+/// The alarm-events CSV (`--alarms`): one row per event, at the record that raised it
+/// (`time_s`: its time). A drop trip inside a period (`estimator_core::handover`) latches
+/// the output before its record (`latched_s`: when the output latched; the record's time
+/// otherwise); its event comes with the record that names its cause, up to three records
 /// later (`value`: the force lost, `threshold`: the trip's limit).
-pub const ALARM_COLUMNS: &str = "time_s,record,tooth,cause,value,threshold,latched";
+pub const ALARM_COLUMNS: &str = "time_s,latched_s,record,tooth,cause,value,threshold,latched";
+
+/// When an event's output latched on the trace's time line: the time of the record it
+/// came with, less the samples from the latch to that record's last sample.
+pub fn latched_time_s(record_time_s: f64, ev: &AlarmEvent, sample_rate_hz: f64) -> f64 {
+    record_time_s - ev.record.end_sample.saturating_sub(ev.latched_sample) as f64 / sample_rate_hz
+}
 
 /// One row of the alarm-events CSV.
-pub fn alarm_row(e: &ReplayEvent<'_>, ev: &AlarmEvent) -> String {
+pub fn alarm_row(e: &ReplayEvent<'_>, ev: &AlarmEvent, sample_rate_hz: f64) -> String {
     format!(
-        "{},{},{},{},{},{},{}\n",
+        "{},{},{},{},{},{},{},{}\n",
         e.time_s,
+        latched_time_s(e.time_s, ev, sample_rate_hz),
         e.index,
         e.record.tooth,
         ev.cause.name(),
@@ -523,6 +543,7 @@ pub fn replay_to<S: RowSource + ?Sized, W: Write>(
         events.push_str(ALARM_COLUMNS);
         events.push('\n');
     }
+    let rate = f64::from(cfg.sample_rate_hz);
     let has_truth = src.kind().has_truth;
     let mut plot = outputs.plot.then(|| PlotData {
         title: src.name().to_string(),
@@ -534,7 +555,7 @@ pub fn replay_to<S: RowSource + ?Sized, W: Write>(
         RecordFormat::Csv => {
             let mut wr = RecordWriter::new(out, has_truth)?;
             let s = replay_source(src, cfg, &outputs.alarms, progress, |e| {
-                collect(&mut plot, &mut events, outputs.events, e);
+                collect(&mut plot, &mut events, outputs.events, rate, e);
                 wr.write(e.time_s, e.record, e.truth)
             })?;
             wr.finish()?;
@@ -543,7 +564,7 @@ pub fn replay_to<S: RowSource + ?Sized, W: Write>(
         RecordFormat::Bits => {
             let mut out = out;
             let s = replay_source(src, cfg, &outputs.alarms, progress, |e| {
-                collect(&mut plot, &mut events, outputs.events, e);
+                collect(&mut plot, &mut events, outputs.events, rate, e);
                 out.write_all(bits_line(e.index, &e.record.to_words()).as_bytes())
                     .map_err(|err| anyhow!("writing the records: {err}"))
             })?;
@@ -555,17 +576,23 @@ pub fn replay_to<S: RowSource + ?Sized, W: Write>(
     Ok((summary, plot, events))
 }
 
-/// Plot points, alarm lines and event rows of one record.
-fn collect(plot: &mut Option<PlotData>, events: &mut String, want: bool, e: &ReplayEvent<'_>) {
+/// Plot points, alarm lines (where the output latched) and event rows of one record.
+fn collect(
+    plot: &mut Option<PlotData>,
+    events: &mut String,
+    want: bool,
+    sample_rate_hz: f64,
+    e: &ReplayEvent<'_>,
+) {
     if let Some(p) = plot {
         p.points.push(point(e));
     }
     if let Some(ev) = &e.alarm.event {
         if let Some(p) = plot {
-            p.alarms.push(e.time_s);
+            p.alarms.push(latched_time_s(e.time_s, ev, sample_rate_hz));
         }
         if want {
-            events.push_str(&alarm_row(e, ev));
+            events.push_str(&alarm_row(e, ev, sample_rate_hz));
         }
     }
 }
@@ -977,7 +1004,8 @@ pub struct ReplayArgs {
     /// Write each record as `idx` and its raw words in hex instead of CSV.
     #[arg(long)]
     pub bits: bool,
-    /// Alarm events CSV to write (time_s, record, tooth, cause, value, threshold, latched).
+    /// Alarm events CSV to write (time_s, latched_s, record, tooth, cause, value,
+    /// threshold, latched).
     #[arg(long, value_name = "FILE")]
     pub alarms: Option<PathBuf>,
     /// Options of a dynamometer recording.

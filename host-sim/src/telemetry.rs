@@ -29,7 +29,8 @@ pub struct DecodeArgs {
     /// Per-tooth records CSV to write; default: standard output.
     #[arg(long, value_name = "FILE")]
     pub output: Option<PathBuf>,
-    /// Alarm events CSV to write (time_s, record, tooth, cause, value, threshold, latched).
+    /// Alarm events CSV to write (time_s, latched_s, record, tooth, cause, value,
+    /// threshold, latched).
     #[arg(long, value_name = "FILE")]
     pub alarms: Option<PathBuf>,
     /// Exit with an error if anything was lost or skipped (bad CRC, sequence gaps,
@@ -123,9 +124,12 @@ impl TelemetrySummary {
 /// One alarm-events row (the format of `replay --alarms`).
 fn alarm_row(f: &RecordFrame) -> Option<String> {
     let e = f.alarm.event?;
+    let rate = f64::from(f.sample_rate_hz);
+    let latched = f.latched_sample().unwrap_or(f.record.end_sample);
     Some(format!(
-        "{},{},{},{},{},{},{}\n",
+        "{},{},{},{},{},{},{},{}\n",
         f.record.time_s(f.sample_rate_hz),
+        latched as f64 / rate,
         f.index,
         f.record.tooth,
         e.cause.name(),

@@ -4,8 +4,10 @@
 use estimator_core::drive::{FeedDrive, SpindleModel};
 use estimator_core::monitor::{FeedVelocity, Input};
 use estimator_core::{
-    average_forces, Engagement, MillingMode, MonitorConfig, Status, Tool, ToothRecord, TABLE2,
+    average_forces, Engagement, FrontEnd, MachineConfig, MillingMode, MonitorConfig, PipelineState,
+    Status, Tool, ToothRecord, TABLE2,
 };
+use host_sim::evaluate::{draw_case, Kind};
 use host_sim::plot::{self, PlotFormat};
 use host_sim::records::{RecordReader, RecordWriter};
 use host_sim::replay::{
@@ -487,4 +489,79 @@ fn command_line_writes_records_plot_and_bin() {
     assert!(!out.status.success());
     assert!(!dir.join("never.csv").exists() && !dir.join("never.csv.partial").exists());
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A drop trip latches the output inside a tooth period and a later record names the
+/// cause: the summary's alarm time and latency, the events CSV's `latched_s` and the
+/// plot's alarm line run to the sample where the output latched, the first one after
+/// which a sample-by-sample run of the same trace finds the alarm state latched; the
+/// naming record's time stays in `time_s`.
+#[test]
+fn a_drop_trip_is_reported_where_the_output_latched() {
+    let case = draw_case(Kind::Break, 0, 1).expect("a break case");
+    let dir = scratch("replay-trip");
+    let trace = dir.join("trace.csv");
+    let f = std::io::BufWriter::new(std::fs::File::create(&trace).expect("create"));
+    host_sim::sim::write_trace(&case.scenario, f).expect("simulate");
+    let machine = MachineConfig {
+        monitor: case.machine.monitor.clone(),
+        alarms: case.machine.alarms,
+        front_end: FrontEnd::default(),
+    };
+    let pipeline = machine.clone().build().expect("builds");
+    let mut st = PipelineState::default();
+    let mut rd = TraceReader::open(&trace).expect("open");
+    let mut first = None;
+    while let Some(row) = rd.next_row().expect("row") {
+        let _ = pipeline.process(&mut st, &row.to_sample());
+        if first.is_none() && st.alarms.output_latched() {
+            first = Some(row.time_s);
+        }
+    }
+    let first = first.expect("the output latched");
+
+    let mut rd = TraceReader::open(&trace).expect("open");
+    let outputs = ReplayOutputs {
+        plot: true,
+        alarms: machine.alarms,
+        events: true,
+    };
+    let (sum, plot, events) = replay_to(
+        &mut rd,
+        &machine.monitor,
+        std::io::sink(),
+        RecordFormat::Csv,
+        &outputs,
+        None,
+    )
+    .expect("replay");
+    let a = sum.first_alarm.expect("an alarm");
+    let close = |x: f64| (x - first).abs() < 1e-6;
+    assert!(a.latched_s < a.time_s, "a trip inside a period: {a:?}");
+    assert!(close(a.latched_s), "{} vs {first}", a.latched_s);
+    let damage = sum.damage_s.expect("the truth shows the break");
+    assert_eq!(a.latency_s, Some(a.latched_s - damage));
+    let report = sum.report("trace");
+    assert!(
+        report.contains(&format!("at {:.4} s", a.latched_s)),
+        "{report}"
+    );
+
+    let mut lines = events.lines();
+    assert_eq!(lines.next(), Some(replay::ALARM_COLUMNS));
+    let row: Vec<f64> = lines
+        .next()
+        .expect("an event row")
+        .split(',')
+        .take(2)
+        .map(|c| c.parse().expect("a number"))
+        .collect();
+    assert_eq!(row[0], a.time_s);
+    assert!(close(row[1]), "{row:?} vs {first}");
+    let plot = plot.expect("plot data");
+    assert!(
+        plot.alarms.first().is_some_and(|&t| close(t)),
+        "{:?}",
+        plot.alarms
+    );
 }

@@ -73,11 +73,7 @@ fn capture(d: &Path) -> (PathBuf, Vec<RecordFrame>) {
                 alarm: AlarmFields {
                     latched: a.latched,
                     wear_warning: a.wear_warning,
-                    event: a.event.map(|e| EventFields {
-                        cause: e.cause,
-                        value: e.value,
-                        threshold: e.threshold,
-                    }),
+                    event: a.event.as_ref().map(EventFields::from),
                     wear: a.wear,
                 },
                 counters: Counters::default(),
@@ -112,15 +108,32 @@ fn a_clean_capture_decodes_into_replays_records() {
     let rate = rd.detect_sample_rate_hz().expect("rate");
     let cfg = load_monitor_config(None, rate).expect("config").config;
     let mut replayed = Vec::new();
-    replay_to(
+    let outputs = ReplayOutputs {
+        events: true,
+        ..ReplayOutputs::default()
+    };
+    let (_, _, replayed_events) = replay_to(
         &mut rd,
         &cfg,
         &mut replayed,
         RecordFormat::Csv,
-        &ReplayOutputs::default(),
+        &outputs,
         None,
     )
     .expect("replay");
+    // The events file too: the same columns, the times (the record's, and the latch's,
+    // which the frame carries as its lead) to the trace's time stamps' last bits.
+    assert_eq!(events.lines().count(), replayed_events.lines().count());
+    for (x, y) in events.lines().zip(replayed_events.lines()) {
+        let (x, y): (Vec<&str>, Vec<&str>) = (x.split(',').collect(), y.split(',').collect());
+        assert_eq!(x.len(), y.len());
+        for (k, (a, b)) in x.iter().zip(&y).enumerate() {
+            match (k, a.parse::<f64>(), b.parse::<f64>()) {
+                (0 | 1, Ok(a), Ok(b)) => assert!((a - b).abs() <= 1e-9, "{x:?} vs {y:?}"),
+                _ => assert_eq!(a, b, "{x:?} vs {y:?}"),
+            }
+        }
+    }
     let mut a = RecordReader::new(&out[..], "decoded").expect("decoded CSV");
     let mut b = RecordReader::new(&replayed[..], "replayed").expect("replayed CSV");
     assert!(!a.has_truth());

@@ -3,7 +3,7 @@
 //! # Design
 //!
 //! USART3 at `firmware::config::UART_BAUD` (921 600, 8N1), TX only, on PB10; each frame
-//! (140 bytes, `firmware::telemetry`) is one DMA write (DMA1 stream 3), awaited by the
+//! (144 bytes, `firmware::telemetry`) is one DMA write (DMA1 stream 3), awaited by the
 //! telemetry task, all on the HAL. The task is the only writer, so frames never interleave.
 //! A failed write is counted and logged (defmt); the frame is lost, and the host sees the
 //! gap in the sequence numbers. When the UART is slower than the records, the monitor's
