@@ -62,7 +62,12 @@
 //!     leaves first, as the square root of the travel where the arc holds `pi/2`
 //!     ([`crate::geometry::exit_loss_share`]). The share is raised to that exit's loss at
 //!     two feeds per tooth of travel, plus `3 sigma_R`, and the trip is not armed beyond
-//!     0.9. The monitor passes it only while the feed speed holds (a feed hold thins
+//!     0.9. Where the tooth of the next period lost force a revolution ago and the tooth
+//!     after it gained (each past 2.5 sigma_R: a flute broken inside its period, its loss
+//!     and the next flute's gain under the rules above), the trip is armed at 0.3 of the
+//!     tooth and 4 sigma_R: that pair happens by noise about once in 25 000 teeth, and
+//!     then this period must lose 4 sigma_R more (about 1e-9 a tooth together). The
+//!     monitor passes it only while the feed speed holds (a feed hold thins
 //!     every chip at once). The trip
 //!     latches the output at once; the records after it
 //!     name the cause: a rule that raises on them, else after [`TRIP_NAMED_WITHIN`]
@@ -601,6 +606,14 @@ const TRIP_QUIET_SIGMAS: f32 = 3.0;
 /// (`Alarms::trip_share`); beyond this share it is not armed (a broken flute's period,
 /// with the next flute's gain in it, rarely loses more).
 const TRIP_MAX_SHARE: f32 = 0.9;
+/// A loss and the next tooth's gain, a revolution ago, beyond this many sigma of `R` each
+/// (see `Alarms::handed_over_a_rev_ago`): the drop trip of that tooth's next period is
+/// armed at [`EVIDENCE_SHARE`] and [`EVIDENCE_TRIP_SIGMAS`].
+const EVIDENCE_SIGMAS: f32 = 2.5;
+/// ... the trip's share then ...
+const EVIDENCE_SHARE: f32 = 0.3;
+/// ... and its floor in sigma of `R`.
+const EVIDENCE_TRIP_SIGMAS: f32 = 4.0;
 /// A trip is named by the rules on the records after it, or after this many records: a
 /// lost tool leaves the tripped period partly cut and the two after it empty.
 pub const TRIP_NAMED_WITHIN: u8 = 3;
@@ -1069,7 +1082,12 @@ impl Alarms {
                 if self.no_recent_loss(st, TRIP_QUIET_SIGMAS * TRIP_QUIET_SIGMAS * var_r) {
                     let sigma_r = libm::sqrtf(var_r);
                     if let Some(share) = self.trip_share(st, rec.tc_mm, sigma_r) {
-                        st.trip_floor_n = FIRST_TOOTH_SIGMAS * sigma_r;
+                        let (share, sigmas) = if self.handed_over_a_rev_ago(st, sigma_r) {
+                            (EVIDENCE_SHARE, EVIDENCE_TRIP_SIGMAS)
+                        } else {
+                            (share, FIRST_TOOTH_SIGMAS)
+                        };
+                        st.trip_floor_n = sigmas * sigma_r;
                         st.trip_share = share;
                     }
                 }
@@ -1402,6 +1420,21 @@ impl Alarms {
         let need = st.exit_share + TRIP_QUIET_SIGMAS * sigma_r / before;
         let need = crate::fmath::max(need, TRIP_SHARE);
         (need <= TRIP_MAX_SHARE).then_some(need)
+    }
+
+    /// Whether the tooth of the next period lost force from the revolution before, a
+    /// revolution ago, and the tooth after it gained, each by [`EVIDENCE_SIGMAS`] of
+    /// `R`: a flute that broke inside its period, its loss and the next flute's gain
+    /// under the thresholds.
+    #[inline(always)]
+    fn handed_over_a_rev_ago(&self, st: &AlarmState, sigma_r: f32) -> bool {
+        let n = self.n;
+        let t = EVIDENCE_SIGMAS * sigma_r;
+        // The loss first: most teeth stop there.
+        n >= 2
+            && st.force(n - 1) - st.force(2 * n - 1) < -t
+            && st.armed & self.armed_two_revs == self.armed_two_revs
+            && st.force(n - 2) - st.force(2 * n - 2) > t
     }
 
     /// E's variance for the breakage thresholds and the drop trip, `None` before
@@ -1817,13 +1850,46 @@ mod tests {
 
     /// The trip's arming, after steady forces with `after` appended.
     fn trip_floor_after(after: &[f32]) -> f32 {
+        trip_arming_after(after).0
+    }
+
+    /// The trip's floor and share, after steady forces with `after` appended.
+    fn trip_arming_after(after: &[f32]) -> (f32, f32) {
         let est = EstimatorConfig::default();
         let a = AlarmConfig::default().build(&est).unwrap();
         let mut st = AlarmState::default();
         for (i, &fx) in forces(3.0, 40, after).iter().enumerate() {
             a.process(&mut st, &record(i, fx, Status::AMBIGUOUS));
         }
-        st.trip_floor_n()
+        (st.trip_floor_n(), st.trip_share())
+    }
+
+    /// A flute broken inside its period a revolution ago: tooth 1 lost 24 N and tooth 2
+    /// gained them (about 4 sigma_R each with the spread they add, under every rule on
+    /// the records: no alarm latched, the trip armed). The trip of
+    /// tooth 1's next period is armed at 4 sigma_R and 0.3 of the tooth (not 6 and a
+    /// half), so that it passes before the flute reaches its break angle again. A loss
+    /// alone (an exit's first tooth), a gain alone, and the pair on other teeth leave it
+    /// as it was.
+    #[test]
+    fn a_loss_handed_to_the_next_tooth_arms_that_teeths_trip_lower() {
+        // (No valid estimate: the share for the worst R_r, over a half.)
+        let (plain_floor, plain_share) = trip_arming_after(&[0.0; 5]);
+        assert!(plain_share >= TRIP_SHARE);
+        let (floor, share) = trip_arming_after(&[0.0, -24.0, 24.0, 0.0, 0.0]);
+        assert!(floor.is_finite(), "armed, no alarm latched");
+        assert_eq!(share, EVIDENCE_SHARE);
+        // Lower than the plain 6 sigma, though the pair widened the spread.
+        assert!(floor < 0.9 * plain_floor, "{floor} vs {plain_floor}");
+        for after in [
+            [0.0, -24.0, 0.0, 0.0, 0.0],
+            [0.0, 0.0, 24.0, 0.0, 0.0],
+            [0.0, 0.0, -24.0, 24.0, 0.0],
+        ] {
+            let (floor, share) = trip_arming_after(&after);
+            assert!(share >= TRIP_SHARE, "{after:?}: {share}");
+            assert!(floor >= plain_floor, "{after:?}: {floor} vs {plain_floor}");
+        }
     }
 
     /// The drop trip inside a period (`crate::handover`) is armed out of a steady cut, at

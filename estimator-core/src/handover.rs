@@ -38,7 +38,8 @@
 //! out of a steady cut with a settled noise figure, the teeth before not losing (an
 //! exit's teeth all lose, the newest most), a share of half or more (what an exit whose
 //! first tooth's loss hid in the noise could take from its second), at least 6 standard
-//! deviations of the tooth's change ([`crate::alarm`]). The monitor lets a trip pass only with the feed speed at it within
+//! deviations of the tooth's change; lower where the tooth lost a revolution ago and the
+//! next one gained ([`crate::alarm`]). The monitor lets a trip pass only with the feed speed at it within
 //! [`crate::monitor::TRIP_FEED_SHARE`] of the last period's: a feed hold thins every chip
 //! at once, the open period's first. Per sample a compare; per bin a division and an add.
 //!
