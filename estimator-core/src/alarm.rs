@@ -63,8 +63,9 @@
 //!     ([`crate::geometry::exit_loss_share`]). The share is raised to that exit's loss at
 //!     two feeds per tooth of travel, plus `3 sigma_R`, and the trip is not armed beyond
 //!     0.9. Where the tooth of the next period lost force a revolution ago and the tooth
-//!     after it gained (each past 2.5 sigma_R: a flute broken inside its period, its loss
-//!     and the next flute's gain under the rules above), the trip is armed at 0.3 of the
+//!     after it gained (each past 2.5 sigma_R of the noise figure before the pair widened
+//!     it: a flute broken inside its period, its loss and the next flute's gain under the
+//!     rules above), the trip is armed at 0.3 of the
 //!     tooth and 4 sigma_R: that pair happens by noise about once in 25 000 teeth, and
 //!     then this period must lose 4 sigma_R more (about 1e-9 a tooth together). The
 //!     monitor passes it only while the feed speed holds (a feed hold thins
@@ -494,6 +495,9 @@ pub struct AlarmState {
     exit_key: (f32, f32),
     /// A drop trip that latched the output and waits for its name.
     trip: Option<Trip>,
+    /// A tooth that lost force while the next one gained it (see
+    /// `Alarms::handed_over`), until its next period.
+    handed: Option<u8>,
 }
 
 /// A drop trip that latched the output (see [`Alarms::trip`]).
@@ -545,6 +549,7 @@ impl Default for AlarmState {
             exit_share: 1.0,
             exit_key: (f32::NAN, f32::NAN),
             trip: None,
+            handed: None,
         }
     }
 }
@@ -606,9 +611,9 @@ const TRIP_QUIET_SIGMAS: f32 = 3.0;
 /// (`Alarms::trip_share`); beyond this share it is not armed (a broken flute's period,
 /// with the next flute's gain in it, rarely loses more).
 const TRIP_MAX_SHARE: f32 = 0.9;
-/// A loss and the next tooth's gain, a revolution ago, beyond this many sigma of `R` each
-/// (see `Alarms::handed_over_a_rev_ago`): the drop trip of that tooth's next period is
-/// armed at [`EVIDENCE_SHARE`] and [`EVIDENCE_TRIP_SIGMAS`].
+/// A tooth's loss and the next tooth's gain, beyond this many sigma of `R` each (see
+/// `Alarms::handed_over`): the drop trip of the losing tooth's next period is armed at
+/// [`EVIDENCE_SHARE`] and [`EVIDENCE_TRIP_SIGMAS`].
 const EVIDENCE_SIGMAS: f32 = 2.5;
 /// ... the trip's share then ...
 const EVIDENCE_SHARE: f32 = 0.3;
@@ -808,6 +813,10 @@ impl Alarms {
         st.last_samples = rec.samples;
         let prev_steady = st.prev_steady;
         st.prev_steady = !rec.status.contains(Status::TRANSIENT);
+        if st.handed == Some(rec.tooth) {
+            // Its next period is over: the evidence was for that one.
+            st.handed = None;
+        }
         let (bad_data, no_decision) = if jittered {
             let keep = !Status::PERIOD_INVALID.0;
             (
@@ -842,6 +851,7 @@ impl Alarms {
             st.armed = 0;
             st.exceed_pos = 0;
             st.exceed_neg = 0;
+            st.handed = None;
             // (Steady within the last revolution: the period after a moved window or a
             // lost pulse is often flagged for its length too, a second forget.)
             st.resumed = if st.since_steady <= n as u32 {
@@ -1008,6 +1018,11 @@ impl Alarms {
                 // FIRST_TOOTH_SHARE): decided on this tooth alone, its cause on the next.
                 // The first-tooth rules, past a cheap screen (see `first_tooth`).
                 let (r0, before) = (st.force(0) - st.force(n), st.force(n));
+                if let Some(var) = noise {
+                    if self.handed_over(st, r0, var) {
+                        st.handed = Some(st.tooth(1));
+                    }
+                }
                 #[allow(clippy::neg_cmp_op_on_partial_ord)]
                 let moved = !(r0 <= FIRST_TOOTH_SHARE * before);
                 if moved && rev_change.is_some() {
@@ -1082,7 +1097,8 @@ impl Alarms {
                 if self.no_recent_loss(st, TRIP_QUIET_SIGMAS * TRIP_QUIET_SIGMAS * var_r) {
                     let sigma_r = libm::sqrtf(var_r);
                     if let Some(share) = self.trip_share(st, rec.tc_mm, sigma_r) {
-                        let (share, sigmas) = if self.handed_over_a_rev_ago(st, sigma_r) {
+                        let next = (rec.tooth as usize + 1) % n.max(1);
+                        let (share, sigmas) = if st.handed == Some(next as u8) {
                             (EVIDENCE_SHARE, EVIDENCE_TRIP_SIGMAS)
                         } else {
                             (share, FIRST_TOOTH_SIGMAS)
@@ -1422,19 +1438,15 @@ impl Alarms {
         (need <= TRIP_MAX_SHARE).then_some(need)
     }
 
-    /// Whether the tooth of the next period lost force from the revolution before, a
-    /// revolution ago, and the tooth after it gained, each by [`EVIDENCE_SIGMAS`] of
-    /// `R`: a flute that broke inside its period, its loss and the next flute's gain
-    /// under the thresholds.
+    /// Whether the tooth before the newest lost force from one revolution earlier and the
+    /// newest gained (`r0`), each by more than [`EVIDENCE_SIGMAS`] of `R` (`var`: E's
+    /// variance before this tooth's `E` widens it): a flute that broke inside its period,
+    /// its loss and the next flute's gain under the thresholds. Squares: no root.
     #[inline(always)]
-    fn handed_over_a_rev_ago(&self, st: &AlarmState, sigma_r: f32) -> bool {
-        let n = self.n;
-        let t = EVIDENCE_SIGMAS * sigma_r;
-        // The loss first: most teeth stop there.
-        n >= 2
-            && st.force(n - 1) - st.force(2 * n - 1) < -t
-            && st.armed & self.armed_two_revs == self.armed_two_revs
-            && st.force(n - 2) - st.force(2 * n - 2) > t
+    fn handed_over(&self, st: &AlarmState, r0: f32, var: f32) -> bool {
+        let t2 = EVIDENCE_SIGMAS * EVIDENCE_SIGMAS * 0.5 * var;
+        let r1 = st.force(1) - st.force(self.n + 1);
+        r0 > 0.0 && r0 * r0 > t2 && r1 < 0.0 && r1 * r1 > t2
     }
 
     /// E's variance for the breakage thresholds and the drop trip, `None` before
