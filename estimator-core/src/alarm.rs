@@ -65,14 +65,13 @@
 //!     0.9. Where the tooth of the next period lost force a revolution ago and the tooth
 //!     after it gained (each past 2.5 sigma_R of the noise figure before the pair widened
 //!     it: a flute broken inside its period, its loss and the next flute's gain under the
-//!     rules above), the trip is armed at 0.3 of the
-//!     tooth and 4 sigma_R: that pair happens by noise about once in 25 000 teeth, and
-//!     then this period must lose 4 sigma_R more (about 1e-9 a tooth together). The
-//!     monitor passes it only while the feed speed holds (a feed hold thins
-//!     every chip at once). The trip
-//!     latches the output at once; the records after it
-//!     name the cause: a rule that raises on them, else after [`TRIP_NAMED_WITHIN`]
-//!     records a lost tool if the last two teeth collapsed, a breakage otherwise.
+//!     rules above), the trip is armed at 0.3 of the tooth and 4 sigma_R: that pair
+//!     happens by noise about once in 25 000 teeth, and then this period must lose
+//!     4 sigma_R more (about 1e-9 a tooth together). The monitor passes it only while the
+//!     feed speed holds (a feed hold thins every chip at once). The trip latches the
+//!     output at once (the event keeps that sample); the records after it name the
+//!     cause: a rule that raises on them, else after [`TRIP_NAMED_WITHIN`] records a lost
+//!     tool if the last two teeth collapsed, a breakage otherwise.
 //!   - two teeth in a row fallen below [`GONE_SHARE`] of their force one revolution
 //!     earlier raise no breakage: nothing cuts (a lost tool, whose flutes of unequal
 //!     runout fall by unequal amounts and swing `E` both ways, or an exit's end).
