@@ -63,15 +63,16 @@
 //!     ([`crate::geometry::exit_loss_share`]). The share is raised to that exit's loss at
 //!     two feeds per tooth of travel, plus `3 sigma_R`, and the trip is not armed beyond
 //!     0.9. Where the tooth of the next period lost force a revolution ago and the tooth
-//!     after it gained (each past 2.5 sigma_R of the noise figure before the pair widened
-//!     it: a flute broken inside its period, its loss and the next flute's gain under the
-//!     rules above), the trip is armed at 0.3 of the tooth and 4 sigma_R: that pair
-//!     happens by noise about once in 25 000 teeth, and then this period must lose
-//!     4 sigma_R more (about 1e-9 a tooth together). The monitor passes it only while the
-//!     feed speed holds (a feed hold thins every chip at once). The trip latches the
-//!     output at once (the event keeps that sample); the records after it name the
-//!     cause: a rule that raises on them, else after [`TRIP_NAMED_WITHIN`] records a lost
-//!     tool if the last two teeth collapsed, a breakage otherwise.
+//!     after it gained (together past 5 sigma_R, each past 1.5, of the noise figure before
+//!     the pair widened it: a flute broken inside its period, its loss and the next
+//!     flute's gain under the rules above), the trip is armed at 0.3 of the tooth and
+//!     4 sigma_R: that pair happens by noise about once in 10 000 teeth, and then this
+//!     period must lose 4 sigma_R more (about 4e-9 a tooth together). The monitor
+//!     passes it only while the feed speed holds (a feed hold thins every chip at once).
+//!     The trip latches the output at once (the event keeps that sample); the records
+//!     after it name the cause: a rule that raises on them, else after
+//!     [`TRIP_NAMED_WITHIN`] records a lost tool if the last two teeth collapsed, a
+//!     breakage otherwise.
 //!   - two teeth in a row fallen below [`GONE_SHARE`] of their force one revolution
 //!     earlier raise no breakage: nothing cuts (a lost tool, whose flutes of unequal
 //!     runout fall by unequal amounts and swing `E` both ways, or an exit's end).
@@ -610,10 +611,14 @@ const TRIP_QUIET_SIGMAS: f32 = 3.0;
 /// (`Alarms::trip_share`); beyond this share it is not armed (a broken flute's period,
 /// with the next flute's gain in it, rarely loses more).
 const TRIP_MAX_SHARE: f32 = 0.9;
-/// A tooth's loss and the next tooth's gain, beyond this many sigma of `R` each (see
-/// `Alarms::handed_over`): the drop trip of the losing tooth's next period is armed at
-/// [`EVIDENCE_SHARE`] and [`EVIDENCE_TRIP_SIGMAS`].
-const EVIDENCE_SIGMAS: f32 = 2.5;
+/// A tooth's loss and the next tooth's gain, together beyond this many sigma of `R` (the
+/// gaining tooth's `E`, about 3.5 sigma_E; see `Alarms::handed_over`): the drop trip of
+/// the losing tooth's next period is armed at [`EVIDENCE_SHARE`] and
+/// [`EVIDENCE_TRIP_SIGMAS`]. The loss is often the larger: the broken flute's is in its
+/// own period, the next flute's gain spreads over two where the arcs overlap.
+const EVIDENCE_SIGMAS: f32 = 5.0;
+/// ... each beyond this many.
+const EVIDENCE_EACH_SIGMAS: f32 = 1.5;
 /// ... the trip's share then ...
 const EVIDENCE_SHARE: f32 = 0.3;
 /// ... and its floor in sigma of `R`.
@@ -1438,14 +1443,21 @@ impl Alarms {
     }
 
     /// Whether the tooth before the newest lost force from one revolution earlier and the
-    /// newest gained (`r0`), each by more than [`EVIDENCE_SIGMAS`] of `R` (`var`: E's
-    /// variance before this tooth's `E` widens it): a flute that broke inside its period,
-    /// its loss and the next flute's gain under the thresholds. Squares: no root.
+    /// newest gained (`r0`), together by more than [`EVIDENCE_SIGMAS`] of `R` and each by
+    /// [`EVIDENCE_EACH_SIGMAS`] (`var`: E's variance before this tooth's `E` widens it): a
+    /// flute that broke inside its period, its loss and the next flute's gain under the
+    /// thresholds. Squares: no root.
     #[inline(always)]
     fn handed_over(&self, st: &AlarmState, r0: f32, var: f32) -> bool {
-        let t2 = EVIDENCE_SIGMAS * EVIDENCE_SIGMAS * 0.5 * var;
+        let var_r = 0.5 * var;
         let r1 = st.force(1) - st.force(self.n + 1);
-        r0 > 0.0 && r0 * r0 > t2 && r1 < 0.0 && r1 * r1 > t2
+        let each = EVIDENCE_EACH_SIGMAS * EVIDENCE_EACH_SIGMAS * var_r;
+        let both = r0 - r1;
+        r0 > 0.0
+            && r0 * r0 > each
+            && r1 < 0.0
+            && r1 * r1 > each
+            && both * both > EVIDENCE_SIGMAS * EVIDENCE_SIGMAS * var_r
     }
 
     /// E's variance for the breakage thresholds and the drop trip, `None` before
