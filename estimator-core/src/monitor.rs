@@ -556,6 +556,10 @@ impl Monitor {
         if let Some(p) = p.as_mut() {
             if self.boundary.take_moved(&mut st.win) {
                 p.status |= Status::WINDOW_MOVED;
+                // The next period is judged against the length before the move, and its
+                // bins are that length's, not the odd period's.
+                self.timing.odd_period(&mut st.tooth);
+                self.boundary.rebin(&mut st.win, st.tooth.reference_len());
             }
         }
         p

@@ -95,11 +95,20 @@ pub struct ToothState {
     tooth: u8,
     /// Previous period length [samples] (0: none yet).
     last_len: u32,
+    /// Length of the period before that one [samples] (0: none).
+    before_len: u32,
     /// Previous revolution length [samples] (per-revolution mode; 0: none yet).
     rev_len: u32,
 }
 
 impl ToothState {
+    /// The length the open period is judged against [samples]: the last period's, or
+    /// after an odd one ([`Timing::odd_period`]) the one before it.
+    #[inline(always)]
+    pub(crate) fn reference_len(&self) -> u32 {
+        self.last_len
+    }
+
     /// Index of the last sample fed (0-based; wraps only after 2^64 samples).
     pub fn last_sample(&self) -> u64 {
         self.sample.wrapping_sub(1)
@@ -304,6 +313,7 @@ impl Timing {
             bad_samples: st.bad,
             status,
         };
+        st.before_len = st.last_len;
         st.last_len = len;
         let teeth = self.teeth.max(1) as u32;
         let next = st.tooth as u32 + advance.max(1) as u32;
@@ -322,6 +332,17 @@ impl Timing {
         p
     }
 
+    /// The period just closed is odd by design (the window stage moved the boundary inside
+    /// it): the next one's length is judged against the period before it, so that a good
+    /// period is not flagged for the jump back (the detectors would forget their history a
+    /// second time, a revolution after the first).
+    #[inline(always)]
+    pub(crate) fn odd_period(&self, st: &mut ToothState) {
+        if st.before_len > 0 {
+            st.last_len = st.before_len;
+        }
+    }
+
     /// Emits one `NO_SYNC` period when the open one outgrows every speed allowed.
     #[inline(always)]
     fn timeout(&self, st: &mut ToothState) -> Option<Period> {
@@ -338,6 +359,7 @@ impl Timing {
         // Wait for a fresh pulse; lengths before the gap say nothing about those after it.
         st.open = false;
         st.last_len = 0;
+        st.before_len = 0;
         st.rev_len = 0;
         Some(p)
     }
@@ -410,6 +432,43 @@ mod tests {
             "jump back from 200 to 100"
         );
         assert!(ps[6].status.is_valid());
+    }
+
+    /// The window stage moves the boundary 40 samples later: one period of 140. Marked odd,
+    /// the next period (100) is judged against the 100 before it and the bins of the open
+    /// period follow it; unmarked, it is a jump back, as after a lost pulse.
+    #[test]
+    fn the_period_after_an_odd_one_is_judged_against_the_one_before() {
+        let t = timing(SyncMode::PerTooth);
+        let pulses = [0, 100, 200, 340, 440, 540];
+        for marked in [true, false] {
+            let mut st = ToothState::default();
+            let mut ps = Vec::new();
+            for i in 0..600 {
+                if let Some(p) = t.push(&mut st, &[1.0; CHANNELS], pulses.contains(&i)) {
+                    if marked && p.samples == 140 {
+                        t.odd_period(&mut st);
+                    }
+                    ps.push((p, st.reference_len()));
+                }
+            }
+            let lens: Vec<(u32, bool, u32)> = ps
+                .iter()
+                .map(|(p, r)| (p.samples, p.status.contains(Status::PERIOD_INVALID), *r))
+                .collect();
+            // The odd period itself is a jump (flagged); the one after it only unmarked.
+            assert_eq!(
+                lens,
+                vec![
+                    (100, false, 100),
+                    (100, false, 100),
+                    (140, true, if marked { 100 } else { 140 }),
+                    (100, !marked, 100),
+                    (100, false, 100)
+                ],
+                "marked {marked}"
+            );
+        }
     }
 
     #[test]

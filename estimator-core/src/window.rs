@@ -26,7 +26,8 @@
 //! the new boundary comes less than half a period after the last, a glitch merged into
 //! the next period; [`crate::tooth::Timing`] flags both. The period in which the boundary moved
 //! is flagged [`Status::WINDOW_MOVED`]: it mixes two alignments, and the detectors forget
-//! their tooth history there, as at a lost pulse.
+//! their tooth history there, as at a lost pulse. The period after it is judged against the
+//! length before the move, not against the odd one (`Timing::odd_period`).
 
 use crate::status::Status;
 use crate::tooth::CHANNELS;
@@ -161,7 +162,7 @@ impl Window {
     pub fn profile(&self, st: &mut WindowState, x: &[f32; CHANNELS], closed: Option<u32>) -> usize {
         if let Some(len) = closed {
             st.pos = 0;
-            st.bin_step = ((PROFILE_BINS as u32) << 16) / len.max(1);
+            self.rebin(st, len);
         }
         let pos = st.pos;
         st.pos = pos.saturating_add(1);
@@ -179,6 +180,12 @@ impl Window {
             }
         }
         bin
+    }
+
+    /// Bins of the open period from a period of `len` samples.
+    #[inline(always)]
+    pub fn rebin(&self, st: &mut WindowState, len: u32) {
+        st.bin_step = ((PROFILE_BINS as u32) << 16) / len.max(1);
     }
 
     /// Whether the period closing now is the first under a moved boundary (then cleared).

@@ -108,9 +108,9 @@ fn the_windows_move_to_where_no_flute_cuts() {
         .map(|(k, _)| k)
         .collect();
     assert_eq!(moved.len(), 1, "moves once: {moved:?}");
-    // Before the move every average mixes two flutes' cuts; from two periods after it
-    // (the period of the move and the next are of odd length), each holds one flute's
-    // whole cut, the flutes in turn.
+    // Before the move every average mixes two flutes' cuts; from the period after it (the
+    // period of the move is of odd length; the next one is judged against the length
+    // before it, and is good), each holds one flute's whole cut, the flutes in turn.
     let cutting_before: Vec<&ToothRecord> =
         recs[..moved[0]].iter().filter(|r| r.f2_n > 0.0).collect();
     assert!(cutting_before.len() > 8, "{}", cutting_before.len());
@@ -118,7 +118,7 @@ fn the_windows_move_to_where_no_flute_cuts() {
         cutting_before.iter().all(|r| which_flute(r.f2_n).is_none()),
         "at the pulse, no average is one flute's cut"
     );
-    let after = &recs[moved[0] + 2..];
+    let after = &recs[moved[0] + 1..];
     assert!(after.len() > 100);
     let first = which_flute(after[0].f2_n).expect("one flute's cut");
     for (k, r) in after.iter().enumerate() {
