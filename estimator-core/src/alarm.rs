@@ -458,6 +458,8 @@ pub struct AlarmState {
     steady_tc_mm: f32,
     /// Running mean of E^2 (clipped) and the number of E values seen.
     e_var: f32,
+    /// Running mean of the squared revolution mean over the same teeth [N^2].
+    e_force2: f32,
     e_count: u16,
     /// Tooth index and length [samples] of the previous record (a jittered period).
     last_tooth: u8,
@@ -528,6 +530,7 @@ impl Default for AlarmState {
             steady_tc_mm: 0.0,
             peak_force_n: 0.0,
             e_var: 0.0,
+            e_force2: 0.0,
             e_count: 0,
             last_tooth: 0,
             last_samples: 0,
@@ -932,10 +935,12 @@ impl Alarms {
                 // Noise floor: E's own running spread (each tooth's contribution clipped at
                 // the threshold, so that a breakage cannot raise it). Light cuts, where a
                 // sensor's noise is large against the force, would otherwise alarm on it.
-                // The spread is updated after the decision, and not by an exceedance.
+                // The spread is updated after the decision, and not by an exceedance; it
+                // is scaled up with the force past the force it was learned at
+                // (`decision_var`).
                 let clip = k * measured;
                 let mut exceeded = false;
-                let noise = self.decision_var(st);
+                let noise = self.decision_var(st, measured);
                 let (settled, e_var) = (noise.is_some(), noise.unwrap_or(st.e_var));
                 // Cheap screen first: the model threshold is only needed near the limit, and
                 // no threshold is below `max(screen, floor)`: the square root is taken only
@@ -1062,7 +1067,11 @@ impl Alarms {
                     } else {
                         E_ALPHA
                     };
-                    st.e_var += w * (crate::fmath::min(e * e, clip * clip) - st.e_var);
+                    let e2 = crate::fmath::min(e * e, clip * clip);
+                    st.e_var += w * (e2 - st.e_var);
+                    if measured.is_finite() {
+                        st.e_force2 += w * (measured * measured - st.e_force2);
+                    }
                     st.e_count = st.e_count.saturating_add(1);
                 }
             }
@@ -1085,7 +1094,7 @@ impl Alarms {
         // The drop trip for the next period: out of a steady cut with a settled noise
         // figure, no run of the newest teeth losing force (an exit's teeth all lose).
         st.trip_floor_n = f32::INFINITY;
-        let noise = self.decision_var(st);
+        let noise = self.decision_var(st, rev_mean.unwrap_or(f));
         // Armed from the first tooth that has its own a revolution earlier (not only with
         // two revolutions armed): a flute broken just after the history was forgotten (the
         // window moved) would otherwise be caught only past a revolution.
@@ -1462,16 +1471,25 @@ impl Alarms {
 
     /// E's variance for the breakage thresholds and the drop trip, `None` before
     /// [`SETTLED_E_MIN`] values (and two revolutions'); scaled by `SETTLED_E / count` under
-    /// [`SETTLED_E`].
-    fn decision_var(&self, st: &AlarmState) -> Option<f32> {
+    /// [`SETTLED_E`]. Scaled up where the revolution mean `measured` is above the force the
+    /// spread was learned at: part of the noise grows with the force (the encoder jitter
+    /// moves a share of it between teeth), and a spread learned early in an entry would
+    /// stay behind the force. (Not down: a cut that lightens keeps its sensor noise.)
+    fn decision_var(&self, st: &AlarmState, measured: f32) -> Option<f32> {
         let m = st.e_count as usize;
         if m < (2 * self.n).max(SETTLED_E_MIN) {
             return None;
         }
-        Some(if m < SETTLED_E {
-            st.e_var * (SETTLED_E as f32 / m as f32)
+        let m2 = measured * measured;
+        let var = if m2 > st.e_force2 && st.e_force2 > 0.0 {
+            st.e_var * (m2 / st.e_force2)
         } else {
             st.e_var
+        };
+        Some(if m < SETTLED_E {
+            var * (SETTLED_E as f32 / m as f32)
+        } else {
+            var
         })
     }
 
@@ -1885,6 +1903,29 @@ mod tests {
             a.process(&mut st, &record(i, fx, Status::AMBIGUOUS));
         }
         (st.trip_floor_n(), st.trip_share())
+    }
+
+    /// The noise floor follows the force up: a cut whose force doubles (with its noise, as
+    /// the encoder jitter's share of it does) has, two revolutions on, the trip's floor
+    /// doubled too; the spread in newtons alone has barely moved by then.
+    #[test]
+    fn the_noise_floor_follows_the_force_up() {
+        let est = EstimatorConfig::default();
+        let a = AlarmConfig::default().build(&est).unwrap();
+        let floor = |scale: f32| {
+            let mut st = AlarmState::default();
+            // The growth over four revolutions (a wall is entered over travel), then two.
+            for (i, &fx) in forces(3.0, 46, &[]).iter().enumerate() {
+                let grown = (i.saturating_sub(4 * 40) as f32 / 16.0).min(1.0);
+                let s = 1.0 + (scale - 1.0) * grown;
+                let out = a.process(&mut st, &record(i, s * fx, Status::AMBIGUOUS));
+                assert!(out.event.is_none(), "scale {scale}, record {i}");
+            }
+            st.trip_floor_n()
+        };
+        let (plain, up) = (floor(1.0), floor(2.0));
+        assert!(plain.is_finite());
+        assert!(up > 1.8 * plain && up < 2.2 * plain, "{up} vs {plain}");
     }
 
     /// A flute broken inside its period a revolution ago: tooth 1 lost 24 N and tooth 2
