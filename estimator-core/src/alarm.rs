@@ -61,13 +61,18 @@
 //!     can take more than half from its second: the arc's far reach, the thickest chip,
 //!     leaves first, as the square root of the travel where the arc holds `pi/2`
 //!     ([`crate::geometry::exit_loss_share`]). The share is raised to that exit's loss at
-//!     two feeds per tooth of travel, plus `3 sigma_R`, and the trip is not armed beyond
-//!     0.9. Where the tooth of the next period lost force a revolution ago and the tooth
-//!     after it gained (together past 5 sigma_R, each past 1.5, of the noise figure before
-//!     the pair widened it: a flute broken inside its period, its loss and the next
-//!     flute's gain under the rules above), the trip is armed at 0.3 of the tooth and
-//!     4 sigma_R: that pair happens by noise about once in 10 000 teeth, and then this
-//!     period must lose 4 sigma_R more (about 4e-9 a tooth together). The monitor
+//!     two feeds per tooth of travel, or less where the newest tooth shows how far an
+//!     exit under way can have gone (it lost under 6 sigma_R of its force: at most the
+//!     travel that takes that share, and one feed more), plus `3 sigma_R`, and the trip
+//!     is not armed beyond 0.9. Where the tooth of the next period lost force a revolution
+//!     ago and the tooth after it gained (together past 5 sigma_R, each past 1.5, of the
+//!     noise figure before the pair widened it: a flute broken inside its period, its loss
+//!     and the next flute's gain under the rules above), and the newest tooth lost under
+//!     2 sigma_R (an exit may begin right after a noise pair), the trip is armed at 0.3 of
+//!     the tooth and 4 sigma_R less the loss already seen, at least 2 sigma_R: that pair
+//!     happens by noise about once in 10 000 teeth, and then this period must lose more
+//!     (its reference, the period of the loss, already lacks what the broken flute did
+//!     not cut). The monitor
 //!     passes it only while the feed speed holds (a feed hold thins every chip at once).
 //!     The trip latches the output at once (the event keeps that sample); the records
 //!     after it name the cause: a rule that raises on them, else after
@@ -498,8 +503,9 @@ pub struct AlarmState {
     /// A drop trip that latched the output and waits for its name.
     trip: Option<Trip>,
     /// A tooth that lost force while the next one gained it (see
-    /// `Alarms::handed_over`), until its next period.
+    /// `Alarms::handed_over`), until its next period, and its loss [N].
     handed: Option<u8>,
+    handed_loss_n: f32,
 }
 
 /// A drop trip that latched the output (see [`Alarms::trip`]).
@@ -553,6 +559,7 @@ impl Default for AlarmState {
             exit_key: (f32::NAN, f32::NAN),
             trip: None,
             handed: None,
+            handed_loss_n: 0.0,
         }
     }
 }
@@ -610,6 +617,9 @@ pub const TRIP_SHARE: f32 = 0.5;
 /// ... armed only when no run of the newest `j <= N` teeth lost more than this many
 /// standard deviations of its sum (`sqrt(j) sigma_R`) from one revolution earlier.
 const TRIP_QUIET_SIGMAS: f32 = 3.0;
+/// ... the loss the newest tooth of an exit may hide, in sigma of `R`: the armed walk's
+/// bound (`TRIP_QUIET_SIGMAS`) and as much of its own noise.
+const EXIT_HIDDEN_SIGMAS: f32 = 6.0;
 /// ... raised where an exit through a face could take that much from the next period
 /// (`Alarms::trip_share`); beyond this share it is not armed (a broken flute's period,
 /// with the next flute's gain in it, rarely loses more).
@@ -624,8 +634,11 @@ const EVIDENCE_SIGMAS: f32 = 5.0;
 const EVIDENCE_EACH_SIGMAS: f32 = 1.5;
 /// ... the trip's share then ...
 const EVIDENCE_SHARE: f32 = 0.3;
-/// ... and its floor in sigma of `R`.
+/// ... and its floor in sigma of `R`, less the tooth's loss a revolution ago, ...
 const EVIDENCE_TRIP_SIGMAS: f32 = 4.0;
+/// ... but at least this many; and only where the newest tooth lost less than this many.
+const EVIDENCE_MIN_SIGMAS: f32 = 2.0;
+const EVIDENCE_KEPT_SIGMAS: f32 = 2.0;
 /// A trip is named by the rules on the records after it, or after this many records: a
 /// lost tool leaves the tripped period partly cut and the two after it empty.
 pub const TRIP_NAMED_WITHIN: u8 = 3;
@@ -1030,6 +1043,7 @@ impl Alarms {
                 if let Some(var) = noise {
                     if self.handed_over(st, r0, var) {
                         st.handed = Some(st.tooth(1));
+                        st.handed_loss_n = st.force(n + 1) - st.force(1);
                     }
                 }
                 #[allow(clippy::neg_cmp_op_on_partial_ord)]
@@ -1109,14 +1123,26 @@ impl Alarms {
                 let var_r = 0.5 * var;
                 if self.no_recent_loss(st, TRIP_QUIET_SIGMAS * TRIP_QUIET_SIGMAS * var_r) {
                     let sigma_r = libm::sqrtf(var_r);
-                    if let Some(share) = self.trip_share(st, rec.tc_mm, sigma_r) {
-                        let next = (rec.tooth as usize + 1) % n.max(1);
-                        let (share, sigmas) = if st.handed == Some(next as u8) {
-                            (EVIDENCE_SHARE, EVIDENCE_TRIP_SIGMAS)
-                        } else {
-                            (share, FIRST_TOOTH_SIGMAS)
-                        };
-                        st.trip_floor_n = sigmas * sigma_r;
+                    let next = (rec.tooth as usize + 1) % n.max(1);
+                    // (After the gain, the newest tooth must not have lost: an exit's
+                    // first tooth right after a noise pair that passed as evidence.)
+                    let kept = st.force(0) - st.force(n) >= -EVIDENCE_KEPT_SIGMAS * sigma_r;
+                    let armed = if st.handed == Some(next as u8) && kept {
+                        // Not an exit (the next tooth gained): no exit's share. The
+                        // tooth's loss a revolution ago counts toward the floor: its
+                        // period then is the reference now, and a flute broken inside it
+                        // left less there to lose.
+                        let floor = crate::fmath::max(
+                            EVIDENCE_TRIP_SIGMAS * sigma_r - st.handed_loss_n,
+                            EVIDENCE_MIN_SIGMAS * sigma_r,
+                        );
+                        Some((EVIDENCE_SHARE, floor))
+                    } else {
+                        self.trip_share(st, rec.tc_mm, sigma_r)
+                            .map(|share| (share, FIRST_TOOTH_SIGMAS * sigma_r))
+                    };
+                    if let Some((share, floor)) = armed {
+                        st.trip_floor_n = floor;
                         st.trip_share = share;
                     }
                 }
@@ -1424,7 +1450,8 @@ impl Alarms {
     /// next period of an exit through a face, its first tooth's loss hidden in the noise,
     /// could lose, that is the exit's loss at a travel of two feeds per tooth past the
     /// arc's far reach ([`crate::geometry::exit_loss_share`], at the last valid `R_r`;
-    /// without one, the worst `R_r`), plus `TRIP_QUIET_SIGMAS sigma_R` of the next tooth's
+    /// without one, the worst `R_r`), or one feed past what the newest tooth's loss allows
+    /// (`EXIT_HIDDEN_SIGMAS`), plus `TRIP_QUIET_SIGMAS sigma_R` of the next tooth's
     /// force one revolution earlier; at least [`TRIP_SHARE`], at most [`TRIP_MAX_SHARE`].
     /// The exit's share is kept until the feed moves by 1 % or `R_r` by 0.01 (two square
     /// roots saved on most teeth).
@@ -1446,8 +1473,18 @@ impl Alarms {
             st.exit_key = (tc_mm, rr);
         }
         let before = st.force(self.n - 1);
-        let need = st.exit_share + TRIP_QUIET_SIGMAS * sigma_r / before;
-        let need = crate::fmath::max(need, TRIP_SHARE);
+        let noise = TRIP_QUIET_SIGMAS * sigma_r / before;
+        let mut exit = st.exit_share;
+        if rr >= 0.0 && exit + noise > TRIP_SHARE {
+            // The newest tooth did not lose (`no_recent_loss`): an exit already under way
+            // took at most `EXIT_HIDDEN_SIGMAS sigma_R` of its force, so it has travelled at
+            // most as far as takes that share, and one feed more by the next period's end.
+            let hidden = EXIT_HIDDEN_SIGMAS * sigma_r / st.force(self.n);
+            let feed = tc_mm / self.est.tool.radius_mm;
+            let x = crate::fmath::min(crate::geometry::exit_travel(rr, hidden), feed);
+            exit = crate::fmath::min(exit, crate::geometry::exit_loss_share(rr, x + feed));
+        }
+        let need = crate::fmath::max(exit + noise, TRIP_SHARE);
         (need <= TRIP_MAX_SHARE).then_some(need)
     }
 
@@ -1931,8 +1968,8 @@ mod tests {
     /// A flute broken inside its period a revolution ago: tooth 1 lost 24 N and tooth 2
     /// gained them (about 4 sigma_R each with the spread they add, under every rule on
     /// the records: no alarm latched, the trip armed). The trip of
-    /// tooth 1's next period is armed at 4 sigma_R and 0.3 of the tooth (not 6 and a
-    /// half), so that it passes before the flute reaches its break angle again. A loss
+    /// tooth 1's next period is armed at 0.3 of the tooth and a lower floor (not 6 sigma_R
+    /// and a half), so that it passes before the flute reaches its break angle again. A loss
     /// alone (an exit's first tooth), a gain alone, and the pair on other teeth leave it
     /// as it was.
     #[test]
@@ -1954,6 +1991,125 @@ mod tests {
             assert!(share >= TRIP_SHARE, "{after:?}: {share}");
             assert!(floor >= plain_floor, "{after:?}: {floor} vs {plain_floor}");
         }
+    }
+
+    /// The loss the handed tooth took a revolution ago counts toward its trip's floor
+    /// (`4 sigma_R` less that loss, at least `2 sigma_R`): that period is the trip's
+    /// reference, and a flute broken inside it left less there to lose. Not after a newest
+    /// tooth that lost 2 sigma_R (an exit begun after a noise pair). And a weak flute
+    /// (runout), whose plain trip is not armed (3 sigma_R is most of its force, the share
+    /// over 0.9), is armed after the pair: no exit gains.
+    #[test]
+    fn the_loss_a_handed_tooth_took_counts_toward_its_trip() {
+        let est = EstimatorConfig::default();
+        let a = AlarmConfig::default().build(&est).unwrap();
+        // Teeth at 100 N but tooth 1 at `weak`, noise 3 N a tooth; then `after`.
+        let arming = |weak: f32, after: &[f32]| {
+            let f = forces(3.0, 40, after);
+            let mut st = AlarmState::default();
+            for (i, &fx) in f.iter().enumerate() {
+                let fx = if i % 4 == 1 { fx - 100.0 + weak } else { fx };
+                let out = a.process(&mut st, &record(i, fx, Status::AMBIGUOUS));
+                assert!(out.event.is_none(), "{weak} {after:?}: record {i}");
+            }
+            (st.trip_floor_n(), st.trip_share(), st.e_var)
+        };
+        // The floor in sigma_R, from the spread the arming used (E's over 2).
+        let sigmas = |(floor, _, var): (f32, f32, f32)| floor / libm::sqrtf(0.5 * var);
+        // Losses of 8-12 N (about 1.5-2 sigma_R: the pair's least) and 24 N, each with a
+        // 24 N gain: the floor falls from 4 sigma_R by the loss, to 2 sigma_R.
+        let mut last = EVIDENCE_TRIP_SIGMAS;
+        for l in [8.0, 9.0, 10.0, 12.0] {
+            let x = arming(100.0, &[0.0, -l, 24.0, 0.0, 0.0]);
+            assert_eq!(x.1, EVIDENCE_SHARE, "{l}");
+            let k = sigmas(x);
+            assert!(
+                k < last - 0.1 && k > EVIDENCE_MIN_SIGMAS,
+                "{l}: {k} after {last}"
+            );
+            last = k;
+        }
+        let large = sigmas(arming(100.0, &[0.0, -24.0, 24.0, 0.0, 0.0]));
+        assert!((large - EVIDENCE_MIN_SIGMAS).abs() < 0.02, "{large}");
+        // The newest tooth (the one the arming follows) lost 15 N, 2.6 sigma_R, under the
+        // armed walk's 3: an exit's first tooth may follow a noise pair. Not armed lower;
+        // a loss of 6 N is noise.
+        let exit = arming(100.0, &[0.0, -24.0, 24.0, 0.0, -15.0]);
+        assert!(exit.1 >= TRIP_SHARE, "{exit:?}");
+        assert_eq!(
+            arming(100.0, &[0.0, -24.0, 24.0, 0.0, -6.0]).1,
+            EVIDENCE_SHARE
+        );
+        // The weak flute: no plain trip, one after the pair.
+        assert!(arming(15.0, &[0.0, 0.0, 0.0, 0.0, 0.0]).0.is_infinite());
+        let weak = arming(15.0, &[0.0, -10.0, 20.0, 0.0, 0.0]);
+        assert!(weak.0.is_finite(), "{weak:?}");
+        assert_eq!(weak.1, EVIDENCE_SHARE);
+    }
+
+    /// The trip's share where an exit through a face could take more than half the next
+    /// period (R_r 1.4: the arc holds pi/2, the loss grows as the square root of the
+    /// travel; 3 mm radius, 0.2 mm a tooth: one feed's travel takes 51 %, two 64 %). An
+    /// exit that has begun took its share from the newest tooth too, and that tooth did
+    /// not lose: the share is below the two-feed exit's (plus the noise term, 0.70 here).
+    /// Exits whose face is reached at every tooth of a revolution and at fractions of a
+    /// tooth's travel (the first tooth's loss hidden in the noise, or not), noise-free
+    /// losses from the exit's geometry: wherever the trip is armed, the next tooth's loss
+    /// stays under its share.
+    #[test]
+    fn an_exit_that_has_begun_shows_in_the_newest_tooth() {
+        let mut est = EstimatorConfig::default();
+        est.tool.radius_mm = 3.0;
+        let a = AlarmConfig::default().build(&est).unwrap();
+        let (rr, feed) = (1.4, 0.2 / 3.0);
+        let valid = |i: usize, fx: f32| ToothRecord {
+            rr,
+            ra: 1.0,
+            ..record(i, fx, Status::VALID)
+        };
+        let noise = forces(1.0, 60, &[]);
+        let level = |k: usize| if k % 4 == 0 { 130.0 } else { 100.0 };
+        // Steady: the share against the two-feed exit's.
+        let mut st = AlarmState::default();
+        for (i, &fx) in noise.iter().take(4 * 40).enumerate() {
+            a.process(&mut st, &valid(i, fx));
+        }
+        let sigma_r = libm::sqrtf(0.5 * st.e_var);
+        let two_feed = crate::geometry::exit_loss_share(rr, 2.0 * feed) + 3.0 * sigma_r / 100.0;
+        assert!(st.trip_floor_n().is_finite());
+        assert!(two_feed > 0.6, "{two_feed}");
+        assert!(
+            st.trip_share() < two_feed - 0.08,
+            "{} vs {two_feed}",
+            st.trip_share()
+        );
+        // Exits.
+        let mut armed = 0;
+        let fracs = [0.001, 0.003, 0.01, 0.03, 0.1, 0.3, 0.6, 0.9];
+        for (start, frac) in (4 * 40..4 * 41).flat_map(|k| fracs.map(|f| (k, f))) {
+            // The face reached at `frac` of tooth `start`'s travel.
+            let clean = |k: usize| {
+                let x = (k as f32 - start as f32 + frac).max(0.0) * feed;
+                level(k) * (1.0 - crate::geometry::exit_loss_share(rr, x))
+            };
+            let mut st = AlarmState::default();
+            for (i, &fx) in noise.iter().enumerate() {
+                let f = fx - level(i) + clean(i);
+                a.process(&mut st, &valid(i, f));
+                if i + 1 >= start && st.trip_floor_n().is_finite() {
+                    armed += 1;
+                    let (before, after) = (clean(i + 1 - 4), clean(i + 1));
+                    assert!(
+                        before - after < st.trip_share() * before,
+                        "exit from {start}, record {i}: {} of {before} against {}",
+                        before - after,
+                        st.trip_share()
+                    );
+                }
+            }
+        }
+        // Armed before each exit's first tooth, and after it where its loss hid.
+        assert!(armed > 4 * fracs.len(), "{armed}");
     }
 
     /// The drop trip inside a period (`crate::handover`) is armed out of a steady cut, at

@@ -141,6 +141,30 @@ pub fn exit_loss_share(rr: f32, x: f32) -> f32 {
     crate::fmath::min((q + crate::fmath::min(q, rr - 1.0)) / rr, 1.0)
 }
 
+/// The travel `x` (in radii past the arc's far reach) at which an exit through a face has
+/// taken `share` of the cut's force: the inverse of [`exit_loss_share`] (0 for a share of
+/// 0 or less, the whole reach for 1 or more).
+pub fn exit_travel(rr: f32, share: f32) -> f32 {
+    let rr = rr.clamp(1e-6, 2.0);
+    let share = share.clamp(0.0, 1.0);
+    let (s, q) = if rr >= 1.0 {
+        // Both halves of the arc lose alike up to `q = R_r - 1`, one alone beyond.
+        let half = 0.5 * share * rr;
+        (
+            1.0,
+            if half <= rr - 1.0 {
+                half
+            } else {
+                share * rr - (rr - 1.0)
+            },
+        )
+    } else {
+        (arc_sin(rr), share * rr + 1.0 - rr)
+    };
+    let y = libm::sqrtf(crate::fmath::max(1.0 - q * q, 0.0));
+    crate::fmath::max(s - y, 0.0)
+}
+
 /// The integrals over the engaged arc behind eq. 7, without the factor
 /// `tan(beta) / phi_N` that cancels in every force (the paper's `A_r = tan(beta)/phi_N * a`):
 /// `a = int sin cos`, `b = int sin^2`, `c = int sin`, plus the arc itself.
@@ -193,11 +217,10 @@ mod tests {
     use super::*;
 
     /// `int sin` over the arc's angles whose point lies beyond the face, over `int sin` on
-    /// the whole arc, by the midpoint rule on a million angles.
-    fn exit_loss_brute(mode: MillingMode, rr: f64, x: f64) -> f64 {
+    /// the whole arc, by the midpoint rule on `steps` angles.
+    fn exit_loss_brute(mode: MillingMode, rr: f64, x: f64, steps: usize) -> f64 {
         let (a, b) = entry_exit_rad(mode, rr as f32);
         let (a, b) = (f64::from(a), f64::from(b));
-        let steps = 1_000_000;
         let h = (b - a) / steps as f64;
         let reach = (0..=1000)
             .map(|i| (a + (b - a) * i as f64 / 1000.0).sin())
@@ -218,7 +241,7 @@ mod tests {
         for mode in [MillingMode::Down, MillingMode::Up] {
             for rr in [0.05, 0.2, 0.5, 0.9, 1.0, 1.1, 1.365, 1.7, 2.0] {
                 for x in [0.0, 0.001, 0.01, 0.03, 0.0625, 0.12, 0.3, 0.7, 1.5] {
-                    let want = exit_loss_brute(mode, rr, x);
+                    let want = exit_loss_brute(mode, rr, x, 1_000_000);
                     let got = f64::from(exit_loss_share(rr as f32, x as f32));
                     assert!(
                         (got - want).abs() < 2e-3,
@@ -232,5 +255,33 @@ mod tests {
         assert!(exit_loss_share(1.35, 0.0625) > 0.5);
         assert!(exit_loss_share(0.3, 0.0625) < 0.25);
         assert_eq!(exit_loss_share(f32::NAN, 0.1), 1.0);
+    }
+
+    /// The travel that takes a share, found by bisection on the brute-force loss.
+    #[test]
+    fn the_exit_travel_takes_its_share() {
+        for rr in [0.05, 0.2, 0.5, 0.9, 1.0, 1.1, 1.365, 1.7, 2.0] {
+            for share in [0.01, 0.05, 0.1, 0.2, 0.35, 0.5, 0.7, 0.9] {
+                let (mut lo, mut hi) = (0.0f64, 2.0f64);
+                for _ in 0..30 {
+                    let mid = 0.5 * (lo + hi);
+                    if exit_loss_brute(MillingMode::Down, rr, mid, 20_000) < share {
+                        lo = mid;
+                    } else {
+                        hi = mid;
+                    }
+                }
+                let got = f64::from(exit_travel(rr as f32, share as f32));
+                // The loss at the travel found, against the share (the travel itself is
+                // ill-conditioned where the loss grows steeply).
+                let at = exit_loss_brute(MillingMode::Down, rr, got, 20_000);
+                assert!(
+                    (at - share).abs() < 2e-3 && (got - lo).abs() < 1e-3 + 0.05 * lo,
+                    "rr {rr} share {share}: {got} vs {lo} (loss {at})"
+                );
+            }
+        }
+        assert_eq!(exit_travel(1.2, 0.0), 0.0);
+        assert_eq!(exit_travel(0.5, -1.0), 0.0);
     }
 }

@@ -30,7 +30,8 @@
 //! whole cut, and the tooth average of that period ends after the flute passes the angle
 //! where it broke: more than a revolution after the damage. Inside the period the loss
 //! shows from the cut's first angles on. As each bin of the open period completes, its
-//! mean minus the same tooth's one revolution earlier goes into a running sum; when the
+//! mean minus the same tooth's one revolution earlier goes into a running sum, and the
+//! open bin's samples so far count with it (each as its share of a bin); when the
 //! sum has lost more than a share of that tooth's whole force then (above the signal's
 //! level with nothing cut: the closed period's mean less its tangential force), the stage
 //! trips ([`Handover::arm_trip`], [`Handover::take_trip`]), mid-period. The alarm stage
@@ -39,9 +40,11 @@
 //! exit's teeth all lose, the newest most), a share of half or more (what an exit whose
 //! first tooth's loss hid in the noise could take from its second), at least 6 standard
 //! deviations of the tooth's change; lower where the tooth lost a revolution ago and the
-//! next one gained ([`crate::alarm`]). The monitor lets a trip pass only with the feed speed at it within
+//! next one gained ([`crate::alarm`]). The monitor lets a trip pass only with the feed
+//! speed at it within
 //! [`crate::monitor::TRIP_FEED_SHARE`] of the last period's: a feed hold thins every chip
-//! at once, the open period's first. Per sample a compare; per bin a division and an add.
+//! at once, the open period's first. Per sample a multiply-add and a compare; per bin a
+//! division and an add.
 //!
 //! Only between usable periods in tooth order (no lost pulse, moved window, feed change,
 //! bad data or air: any of them forgets every tooth's profile), only after `N + 1` steady
@@ -106,6 +109,14 @@ pub struct HandoverState {
     deficit: f32,
     trip: f32,
     tripped: bool,
+    /// The loss when it tripped; a bin's samples (the open period's bins are the closed
+    /// period's length over `BINS`); the open bin's change so far (its samples less the
+    /// bin's mean a revolution earlier, `cur_l`) and where it trips (see `sample`).
+    lost: f32,
+    bin_len: f32,
+    run: f32,
+    cur_l: f32,
+    run_limit: f32,
     /// The tangential force of one unit of the spindle signal, from the last period.
     per_unit_n: f32,
 }
@@ -131,6 +142,11 @@ impl Default for HandoverState {
             deficit: 0.0,
             trip: f32::INFINITY,
             tripped: false,
+            lost: 0.0,
+            bin_len: 1.0,
+            run: 0.0,
+            cur_l: 0.0,
+            run_limit: f32::NEG_INFINITY,
             per_unit_n: 0.0,
         }
     }
@@ -178,6 +194,42 @@ impl Handover {
         if bin > st.fold as usize {
             self.fold(st, bin);
         }
+        // The open bin's samples so far count too: judged only as its bins complete, the
+        // trip would come up to a bin (a sixteenth of a period) after the loss passed.
+        // `run` is the open bin's change so far in samples, `run_limit` where it trips
+        // (`-INFINITY`: not armed).
+        st.run += x - st.cur_l;
+        if st.run < st.run_limit {
+            self.trip_inside_bin(st);
+        }
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn trip_inside_bin(&self, st: &mut HandoverState) {
+        st.tripped = true;
+        st.lost = -(st.deficit + st.run / st.bin_len);
+        st.run_limit = f32::NEG_INFINITY;
+    }
+
+    /// The open bin's limit for `run` from the armed trip, the folded bins' change and a
+    /// bin's length in samples. Not the last bin: it takes a longer period's excess (a
+    /// moved window's odd period, a late pulse), samples at angles the bin a revolution
+    /// earlier did not hold.
+    #[inline(always)]
+    fn bin_limit(st: &mut HandoverState) {
+        st.run_limit = if (st.fold as usize) < BINS - 1 && st.trip < f32::INFINITY {
+            -(st.trip + st.deficit) * st.bin_len
+        } else {
+            f32::NEG_INFINITY
+        };
+    }
+
+    /// The closed period was `len` samples long: the open period's bins are that length's
+    /// (after [`Handover::sample`] closed it; once a period).
+    #[inline(always)]
+    pub fn period_len(&self, st: &mut HandoverState, len: u32) {
+        st.bin_len = len.max(1) as f32 * (1.0 / BINS as f32);
     }
 
     /// The bins before `bin` are complete: their change from the same tooth's one
@@ -187,6 +239,7 @@ impl Handover {
         let mut j = st.fold as usize;
         st.fold = bin as u8;
         let Some(last) = st.last.get(st.open as usize) else {
+            st.run_limit = f32::NEG_INFINITY;
             return;
         };
         let mut d = st.deficit;
@@ -201,7 +254,12 @@ impl Handover {
         st.deficit = d;
         if d < -st.trip {
             st.tripped = true;
+            st.lost = -d;
         }
+        // The open bin starts.
+        st.run = 0.0;
+        st.cur_l = last.get(bin).copied().unwrap_or(0.0);
+        Self::bin_limit(st);
     }
 
     /// Arms the drop trip for the open period: it trips when the period's bins so far
@@ -220,6 +278,7 @@ impl Handover {
         floor_n: f32,
     ) {
         st.trip = f32::INFINITY;
+        st.run_limit = f32::NEG_INFINITY;
         if !self.on || st.per_unit_n <= 0.0 || st.filled & (1u8.wrapping_shl(st.open as u32)) == 0 {
             return;
         }
@@ -231,6 +290,7 @@ impl Handover {
         if limit.is_finite() && limit > 0.0 {
             st.trip = limit;
         }
+        Self::bin_limit(st);
     }
 
     /// The drop trip passed in the open period: `(lost, limit)` as tangential forces of a
@@ -241,8 +301,9 @@ impl Handover {
         }
         st.tripped = false;
         let scale = st.per_unit_n * (1.0 / BINS as f32);
-        let out = (-st.deficit * scale, st.trip * scale);
+        let out = (st.lost * scale, st.trip * scale);
         st.trip = f32::INFINITY;
+        st.run_limit = f32::NEG_INFINITY;
         Some(out)
     }
 
@@ -285,6 +346,12 @@ impl Handover {
         st.deficit = 0.0;
         st.trip = f32::INFINITY;
         st.tripped = false;
+        st.run = 0.0;
+        st.cur_l = st
+            .last
+            .get(st.open as usize)
+            .map_or(0.0, |last| last.first().copied().unwrap_or(0.0));
+        st.run_limit = f32::NEG_INFINITY;
     }
 
     /// After the monitor has judged the closed period of `tooth`: the hand-over into it
@@ -429,14 +496,14 @@ mod tests {
     /// Feeds periods (tooth `k % N`, its samples) through the stage the way the monitor
     /// does (bins of the previous period's length), every one a steady cut unless listed in
     /// `unusable`; `(z, amount)` of each closed period. `trip`: the drop trip is armed
-    /// after every period (half the tooth's force, no noise floor; the signal is 0 with
+    /// after every period (that share of the tooth's force, no noise floor; the signal is 0 with
     /// nothing cut, one unit per newton), and the feed stops at the first, returned as
     /// (period, sample in it, lost share of the tooth's force).
     #[allow(clippy::type_complexity)]
     fn feed(
         periods: &[Vec<f32>],
         unusable: &[usize],
-        trip: bool,
+        trip: Option<f32>,
     ) -> (Vec<(f32, f32)>, Option<(usize, usize, f32)>) {
         let h = Handover::new(N, true);
         let mut st = HandoverState::default();
@@ -451,16 +518,17 @@ mod tests {
                 let bin = (((pos as u64 * step as u64) >> 16) as usize).min(BINS - 1);
                 h.sample(&mut st, closed, bin, x);
                 if let Some(t) = closed {
+                    h.period_len(&mut st, periods[k - 1].len() as u32);
                     let period = if unusable.contains(&(k - 1)) {
                         Period::Unusable
                     } else {
                         Period::Cut { steady: true }
                     };
                     out.push(h.measure(&mut st, t, period, 1.0));
-                    if trip {
+                    if let Some(share) = trip {
                         let prev = &periods[k - 1];
                         let ft = prev.iter().sum::<f32>() / prev.len() as f32;
-                        h.arm_trip(&mut st, t, ft, 0.5, 0.0);
+                        h.arm_trip(&mut st, t, ft, share, 0.0);
                     }
                 }
                 if let Some((lost, _)) = h.take_trip(&mut st) {
@@ -473,11 +541,11 @@ mod tests {
     }
 
     fn run(periods: &[Vec<f32>], unusable: &[usize]) -> Vec<(f32, f32)> {
-        feed(periods, unusable, false).0
+        feed(periods, unusable, None).0
     }
 
     fn first_trip(periods: &[Vec<f32>], unusable: &[usize]) -> Option<(usize, usize, f32)> {
-        feed(periods, unusable, true).1
+        feed(periods, unusable, Some(0.5)).1
     }
 
     /// `revs` revolutions of a steady cut, flute 0 cutting 30 % more (runout), noise
@@ -559,7 +627,7 @@ mod tests {
         let half = (0..LEN)
             .position(|i| (0..=i).map(flute).sum::<f32>() >= 0.5 * total)
             .unwrap();
-        // Decided at a bin's end (3 samples), with the noise of a few bins.
+        // Decided inside a bin (3 samples), with the noise of a few bins.
         assert!(
             pos >= half.saturating_sub(3) && pos <= half + 7,
             "{pos} vs {half}"
@@ -569,6 +637,33 @@ mod tests {
         assert_eq!(first_trip(&steady(60, 1.0), &[]), None);
         // The broken flute's period before was unusable: nothing to compare with.
         assert_eq!(first_trip(&p[..k + n + 2], &[k + n - 1]).map(|t| t.0), None);
+    }
+
+    /// The trip passes at the sample where the period's loss passes its limit, not at the
+    /// end of that sample's bin (up to a sixteenth of a period later). Noise-free, the
+    /// flute's whole cut gone, at several shares: near the sample where the flute's signal
+    /// so far, summed here, passes that share of its whole.
+    #[test]
+    fn the_trip_passes_inside_a_bin() {
+        let total: f32 = (0..LEN).map(flute).sum();
+        let k = 61 + N as usize;
+        let mut worst = 0;
+        for share in [0.3f32, 0.35, 0.4, 0.45, 0.5, 0.55, 0.6, 0.65, 0.7] {
+            let mut p = steady(40, 0.0);
+            for i in 0..p[k].len() {
+                p[k][i] -= flute(i);
+            }
+            let (period, pos, _) = feed(&p, &[], Some(share)).1.unwrap();
+            assert_eq!(period, k);
+            let want = (0..LEN)
+                .position(|i| (0..=i).map(flute).sum::<f32>() > share * total)
+                .unwrap();
+            worst = worst.max(pos.abs_diff(want));
+        }
+        // Within less than a bin (3 samples here; judged at the bins' ends, 5 late): the
+        // open bin's samples count at the bin's mean a revolution earlier, and the chip
+        // thins across it.
+        assert!(worst < LEN / BINS, "{worst} samples off");
     }
 
     #[test]

@@ -554,6 +554,7 @@ impl Monitor {
         self.handover
             .sample(&mut st.hand, p.as_ref().map(|p| p.tooth), bin, x[4]);
         if let Some(p) = p.as_mut() {
+            self.handover.period_len(&mut st.hand, p.samples);
             if self.boundary.take_moved(&mut st.win) {
                 p.status |= Status::WINDOW_MOVED;
                 // The next period is judged against the length before the move, and its

@@ -1000,6 +1000,41 @@ mod held_out_tests {
         late
     }
 
+    /// An exit (3 flutes, R_r 1.02, 3 009 rpm) right after a noise pair that passed as the
+    /// evidence of a hand-over (one tooth 52 N down, the next 40 N up, 5.4 sigma_R
+    /// together): the exit's first tooth, the one after the pair, lost 2.8 sigma_R, under
+    /// the armed walk's 3, and the trip of the losing tooth's next period, armed at 0.3,
+    /// passed on the exit's loss. After a pair the trip is armed lower only if the newest
+    /// tooth lost under 2 sigma_R.
+    #[test]
+    fn an_exit_right_after_a_noise_pair_is_not_a_breakage() {
+        let raised = alarms_over_noise(Kind::Taught, 12, 68, 8);
+        assert!(raised.is_empty(), "{raised:#?}");
+    }
+
+    /// A flute of a 3-flute tool broken 32 % into its period (down milling, 2 904 rpm): its
+    /// period lost 52 N (4.2 sigma_R) and the next gained 67 N. The trip of its next
+    /// period, at 4 sigma_R, against a reference that had already lost those 52 N, passed
+    /// 2 samples past the revolution. The loss counts toward the floor now (at least 2
+    /// sigma_R).
+    #[test]
+    fn a_flute_broken_inside_its_period_has_its_loss_counted_toward_the_trip() {
+        let late = late_over_noise(61, 26, 8);
+        assert!(late.is_empty(), "{late:#?}");
+    }
+
+    /// A 4-flute tool in a wide arc (down milling, R_r 1.5, 2 554 rpm), a flute broken at
+    /// the end of its period: its next period lost 54 % of the tooth, and the trip was
+    /// armed at 0.64, the exit through a face at two feeds' travel (the first tooth's loss
+    /// hidden in the noise). But the newest tooth did not lose: an exit under way has
+    /// travelled at most as far as takes 6 sigma_R of it. Late in 6 of these 8 noise
+    /// seeds before, in 2 now.
+    #[test]
+    fn a_flute_broken_in_a_wide_arc_trips_under_the_exits_share() {
+        let late = late_over_noise(46, 4, 8);
+        assert!(late.len() <= 2, "{late:#?}");
+    }
+
     /// A flute of a 2-flute tool broken inside its period (down milling, R_r 1.53, a feed
     /// of 3.4 % of the radius, 3 712 rpm): its period lost part of its force and the next
     /// flute gained it, under every rule on the records. When it came round, the drop trip
