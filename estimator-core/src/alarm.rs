@@ -1126,8 +1126,9 @@ impl Alarms {
                     let next = (rec.tooth as usize + 1) % n.max(1);
                     // (After the gain, the newest tooth must not have lost: an exit's
                     // first tooth right after a noise pair that passed as evidence.)
-                    let kept = st.force(0) - st.force(n) >= -EVIDENCE_KEPT_SIGMAS * sigma_r;
-                    let armed = if st.handed == Some(next as u8) && kept {
+                    let armed = if st.handed == Some(next as u8)
+                        && st.force(0) - st.force(n) >= -EVIDENCE_KEPT_SIGMAS * sigma_r
+                    {
                         // Not an exit (the next tooth gained): no exit's share. The
                         // tooth's loss a revolution ago counts toward the floor: its
                         // period then is the reference now, and a flute broken inside it

@@ -256,9 +256,20 @@ impl Handover {
             st.tripped = true;
             st.lost = -d;
         }
-        // The open bin starts.
+        Self::open_bin(st, bin);
+    }
+
+    /// Bin `bin` of the open period starts: its change so far is none, its reference
+    /// the open tooth's mean there a revolution earlier.
+    #[inline(always)]
+    fn open_bin(st: &mut HandoverState, bin: usize) {
         st.run = 0.0;
-        st.cur_l = last.get(bin).copied().unwrap_or(0.0);
+        st.cur_l = st
+            .last
+            .get(st.open as usize)
+            .and_then(|last| last.get(bin))
+            .copied()
+            .unwrap_or(0.0);
         Self::bin_limit(st);
     }
 
@@ -346,12 +357,7 @@ impl Handover {
         st.deficit = 0.0;
         st.trip = f32::INFINITY;
         st.tripped = false;
-        st.run = 0.0;
-        st.cur_l = st
-            .last
-            .get(st.open as usize)
-            .map_or(0.0, |last| last.first().copied().unwrap_or(0.0));
-        st.run_limit = f32::NEG_INFINITY;
+        Self::open_bin(st, 0);
     }
 
     /// After the monitor has judged the closed period of `tooth`: the hand-over into it
