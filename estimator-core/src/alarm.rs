@@ -30,7 +30,9 @@
 //!   - a redistribution within the revolution: `R` of both signs beyond
 //!     `max(k F_expected, 4.5 sigma_R)` plus half the growth over the last `N` teeth (one
 //!     tooth lost, another gained; the total stays). It sees a loss spread over two tooth
-//!     periods (several flutes engaged at once), where no single `E` passes.
+//!     periods (several flutes engaged at once), where no single `E` passes. The same
+//!     against `SLOW_REVS` (3) revolutions earlier (the growth over those revolutions, and
+//!     at the same speed): under runout the chips after a break settle over a few passes.
 //!   - a first tooth alone: out of a steady cut (the record before not transient, the
 //!     noise figure settled), a tooth whose force rose from one revolution earlier by
 //!     more than 35 % of it and 6 sigma_R, with at least the 3 (and the `N - 1`) teeth
@@ -371,6 +373,7 @@ impl AlarmConfig {
             armed_rev: ones(n),
             armed_two_revs: ones(2 * n),
             armed_e: 0b11 | (0b11 << n),
+            armed_slow: ones((SLOW_REVS + 1) * n),
             peak_decay: libm::powf(PEAK_DECAY_PER_REV, 1.0 / n.max(1) as f32),
         })
     }
@@ -443,11 +446,12 @@ pub struct AlarmOutput {
 /// Running state of [`Alarms`]: a few hundred bytes.
 #[derive(Clone, Copy, Debug)]
 pub struct AlarmState {
-    /// Per tooth, a ring of `HISTORY` written at `head`: the watched force and the tooth
-    /// index. Bit `k` of `armed`: the `k`-th most recent tooth is armed (its force
-    /// usable); a tooth that is not is never read.
+    /// Per tooth, a ring of `HISTORY` written at `head`: the watched force, the tooth
+    /// index and the period's samples. Bit `k` of `armed`: the `k`-th most recent tooth is
+    /// armed (its force usable); a tooth that is not is never read.
     hist_f: [f32; HISTORY],
     hist_tooth: [u8; HISTORY],
+    hist_len: [u16; HISTORY],
     armed: u64,
     head: usize,
     /// Bit i: tooth i records back exceeded the breakage threshold upwards / downwards.
@@ -525,6 +529,7 @@ impl Default for AlarmState {
         AlarmState {
             hist_f: [0.0; HISTORY],
             hist_tooth: [0; HISTORY],
+            hist_len: [0; HISTORY],
             armed: 0,
             head: 0,
             exceed_pos: 0,
@@ -643,6 +648,14 @@ const EVIDENCE_KEPT_SIGMAS: f32 = 2.0;
 /// lost tool leaves the tripped period partly cut and the two after it empty.
 pub const TRIP_NAMED_WITHIN: u8 = 3;
 
+/// The redistribution is also judged against this many revolutions earlier: with runout,
+/// the chips the other flutes take after a break settle over a few passes (each chip is
+/// cut from the surface all the flutes before it left), and a change spread over them
+/// passes no threshold one revolution at a time. (`(SLOW_REVS + 1) MAX_FLUTES` teeth fit
+/// the history.)
+const SLOW_REVS: usize = 3;
+const _: () = assert!((SLOW_REVS + 1) * MAX_FLUTES <= HISTORY);
+
 /// A single `E` beyond this multiple of the threshold raises a breakage by itself.
 const SINGLE_EXCEEDANCE: f32 = 3.0;
 
@@ -739,11 +752,12 @@ pub struct Alarms {
     cfg: AlarmConfig,
     est: EstimatorConfig,
     n: usize,
-    /// `AlarmState::armed` masks: the newest `n` teeth, the newest `2 n`, and teeth
-    /// `0, 1, n, n + 1` back (`E_i`).
+    /// `AlarmState::armed` masks: the newest `n` teeth, the newest `2 n`, teeth
+    /// `0, 1, n, n + 1` back (`E_i`), and the newest `(SLOW_REVS + 1) n`.
     armed_rev: u64,
     armed_two_revs: u64,
     armed_e: u64,
+    armed_slow: u64,
     /// Per-tooth decay of the recent peak force.
     peak_decay: f32,
 }
@@ -893,6 +907,9 @@ impl Alarms {
         if let Some(slot) = st.hist_tooth.get_mut(head) {
             *slot = rec.tooth;
         }
+        if let Some(slot) = st.hist_len.get_mut(head) {
+            *slot = rec.samples.min(u16::MAX as u32) as u16;
+        }
         st.head = (head + 1) & (HISTORY - 1);
         st.armed = (st.armed << 1) | armed as u64;
         st.exceed_pos <<= 1;
@@ -1016,23 +1033,31 @@ impl Alarms {
                 // single `E` passes. An engagement change (a step, an entry with runout, a
                 // lost tool) moves every `R` one way. `R`'s noise is `E`'s over sqrt 2; the
                 // threshold widens by half the revolution growth. Screened on the newest
-                // `R` (it makes the pattern complete).
-                #[allow(clippy::neg_cmp_op_on_partial_ord)]
-                let newest_past = !(libm::fabsf(st.force(0) - st.force(n)) <= screen);
-                if settled && newest_past && rev_change.is_some() {
-                    let (r_max, r_min) = self.revolution_change_range(st);
-                    let spread = crate::fmath::min(r_max, -r_min);
-                    let widen = 0.5 * common;
-                    if spread > screen + widen {
-                        let floor_r = E_SIGMAS * libm::sqrtf(0.5 * e_var);
-                        let expected = match st.held {
-                            Some((rr, ra)) => self.model_signal(rr, ra, rec.tc_mm),
-                            None => measured,
-                        };
-                        let t = crate::fmath::max(crate::fmath::max(k * expected, floor_r), screen)
-                            + widen;
-                        if spread > t {
-                            raise(Cause::Breakage, spread, t);
+                // `R` (it makes the pattern complete). The same against SLOW_REVS
+                // revolutions earlier: the same noise (two teeth's), the growth over those
+                // revolutions.
+                for (back, armed) in [
+                    (n, rev_change.is_some()),
+                    (SLOW_REVS * n, st.armed & self.armed_slow == self.armed_slow),
+                ] {
+                    #[allow(clippy::neg_cmp_op_on_partial_ord)]
+                    let newest_past = !(libm::fabsf(st.force(0) - st.force(back)) <= screen);
+                    if settled && newest_past && armed {
+                        let (r_max, r_min, r_sum) = self.change_range(st, back);
+                        let spread = crate::fmath::min(r_max, -r_min);
+                        let widen = 0.5 * libm::fabsf(r_sum / n as f32);
+                        if spread > screen + widen {
+                            let floor_r = E_SIGMAS * libm::sqrtf(0.5 * e_var);
+                            let expected = match st.held {
+                                Some((rr, ra)) => self.model_signal(rr, ra, rec.tc_mm),
+                                None => measured,
+                            };
+                            let t =
+                                crate::fmath::max(crate::fmath::max(k * expected, floor_r), screen)
+                                    + widen;
+                            if spread > t && (back == n || self.same_speed(st, back)) {
+                                raise(Cause::Breakage, spread, t);
+                            }
                         }
                     }
                 }
@@ -1535,21 +1560,39 @@ impl Alarms {
         })
     }
 
-    /// Largest and smallest change from one revolution earlier, `F_k - F_{k+N}`, over the
-    /// newest `N` teeth (the caller has the last `2 N` armed).
+    /// Whether the newest revolution is as long as the one `back` teeth earlier, to 1 % and
+    /// two samples (the pulses' jitter at its ends): the current loop's lag is a time, and
+    /// its share of a period, which moves force across the window's boundaries, follows
+    /// the speed. Over a speed ramp the force moves one way at each boundary, a little a
+    /// revolution: past the threshold over several.
+    #[cold]
     #[inline(never)]
-    fn revolution_change_range(&self, st: &AlarmState) -> (f32, f32) {
-        let (mut hi, mut lo) = (f32::NEG_INFINITY, f32::INFINITY);
-        let (mut i, mut j) = (st.slot(0), st.slot(self.n));
+    fn same_speed(&self, st: &AlarmState, back: usize) -> bool {
+        let len = |from: usize| -> u32 {
+            (from..from + self.n)
+                .map(|k| st.hist_len.get(st.slot(k)).copied().unwrap_or(0) as u32)
+                .sum()
+        };
+        let (now, then) = (len(0), len(back));
+        now.abs_diff(then) <= now / 100 + 2
+    }
+
+    /// Largest and smallest change from `back` teeth earlier, `F_k - F_{k+back}`, over the
+    /// newest `N` teeth, and their sum (the caller has the last `N + back` armed).
+    #[inline(never)]
+    fn change_range(&self, st: &AlarmState, back: usize) -> (f32, f32, f32) {
+        let (mut hi, mut lo, mut sum) = (f32::NEG_INFINITY, f32::INFINITY, 0.0f32);
+        let (mut i, mut j) = (st.slot(0), st.slot(back));
         for _ in 0..self.n {
             let r =
                 st.hist_f.get(i).copied().unwrap_or(0.0) - st.hist_f.get(j).copied().unwrap_or(0.0);
             hi = crate::fmath::max(hi, r);
             lo = crate::fmath::min(lo, r);
+            sum += r;
             i = i.wrapping_sub(1) & (HISTORY - 1);
             j = j.wrapping_sub(1) & (HISTORY - 1);
         }
-        (hi, lo)
+        (hi, lo, sum)
     }
 
     /// `E_i = D_i - D_{i-N}` for the newest tooth, when all four teeth it needs are armed
@@ -2400,6 +2443,47 @@ mod tests {
             let (at, cause) = first(true, sigma).unwrap();
             assert_eq!(cause, Cause::Breakage);
             assert!((83..=80 + 2 * 2 + 2).contains(&at), "decided at {at}");
+        }
+    }
+
+    /// A breakage whose redistribution settles over three revolutions (runout: the chips
+    /// after a break are cut from the surface every flute before left): tooth 1 loses 12 N
+    /// a revolution and tooth 2 gains them, under every threshold one revolution at a time
+    /// (about 21 N; `E` swings 24 N against 27), caught against three revolutions earlier.
+    /// An entry whose teeth grow by 10 % a revolution (with the runout's tooth 0 growing
+    /// most), an exit that shrinks them as fast, and the redistribution while the speed
+    /// changes are not.
+    #[test]
+    fn a_redistribution_over_revolutions_is_caught_against_three_earlier() {
+        let steps = |per_rev: [f32; 4]| -> Vec<f32> {
+            (1..=6)
+                .flat_map(|r| per_rev.map(|x| x * r.min(4) as f32))
+                .collect()
+        };
+        let slow = steps([0.0, -12.0, 12.0, 0.0]);
+        // Three revolutions of 12 N: decided in the third (records 160-171).
+        let at = first_breakage(&forces(3.0, 40, &slow));
+        assert!(at.is_some_and(|i| (168..172).contains(&i)), "{at:?}");
+        // One revolution of it, held: nothing.
+        let once: Vec<f32> = (0..24).map(|k| [0.0, -12.0, 12.0, 0.0][k % 4]).collect();
+        assert_eq!(first_breakage(&forces(3.0, 40, &once)), None);
+        for sign in [1.0f32, -1.0] {
+            let ramp = steps([13.0 * sign, 10.0 * sign, 10.0 * sign, 10.0 * sign]);
+            assert_eq!(first_breakage(&forces(3.0, 40, &ramp)), None, "{sign}");
+        }
+        // The same redistribution while the spindle speeds up by 2 % a revolution (the
+        // current loop's lag moves force across the boundaries): not judged against three
+        // revolutions earlier.
+        let a = AlarmConfig::default()
+            .build(&EstimatorConfig::default())
+            .unwrap();
+        let mut st = AlarmState::default();
+        for (i, &fx) in forces(3.0, 40, &slow).iter().enumerate() {
+            let mut rec = record(i, fx, Status::TRANSIENT);
+            let revs = i.saturating_sub(159) / 4;
+            rec.samples = 250 - 5 * revs.min(4) as u32;
+            let out = a.process(&mut st, &rec);
+            assert!(out.event.is_none(), "record {i}");
         }
     }
 
