@@ -980,9 +980,8 @@ mod held_out_tests {
     }
 
     /// Break case `index` at draw seed `seed`, run with its own noise seed and the
-    /// `seeds - 1` after it: each run's latency from the damage in revolutions (`None`:
-    /// not detected).
-    fn latencies_over_noise(index: usize, seed: u64, seeds: u64) -> Vec<Option<f64>> {
+    /// `seeds - 1` after it: each run's noise seed and outcome.
+    fn breaks_over_noise(index: usize, seed: u64, seeds: u64) -> Vec<(u64, Outcome)> {
         let drawn = draw_case(Kind::Break, index, seed)
             .expect("a case")
             .scenario
@@ -991,9 +990,16 @@ mod held_out_tests {
             .map(|k| {
                 let mut case = draw_case(Kind::Break, index, seed).expect("a case");
                 case.scenario.seed = drawn.wrapping_add(k);
-                let out = run_case(&case).expect("the case runs");
-                out.detected_after_s().map(|l| l / out.rev_s)
+                (case.scenario.seed, run_case(&case).expect("the case runs"))
             })
+            .collect()
+    }
+
+    /// ... each run's latency from the damage in revolutions (`None`: not detected).
+    fn latencies_over_noise(index: usize, seed: u64, seeds: u64) -> Vec<Option<f64>> {
+        breaks_over_noise(index, seed, seeds)
+            .iter()
+            .map(|(_, out)| out.detected_after_s().map(|l| l / out.rev_s))
             .collect()
     }
 
@@ -1014,25 +1020,14 @@ mod held_out_tests {
         }
     }
 
-    /// Break case `index` at draw seed `seed`, run with its own noise seed and the
-    /// `seeds - 1` after it: the runs whose alarm was not within a revolution of the
-    /// damage.
+    /// Break case `index` at draw seed `seed` over noise seeds (`breaks_over_noise`): the
+    /// runs whose alarm was not within a revolution of the damage.
     fn late_over_noise(index: usize, seed: u64, seeds: u64) -> Vec<String> {
-        let drawn = draw_case(Kind::Break, index, seed)
-            .expect("a case")
-            .scenario
-            .seed;
-        let mut late = Vec::new();
-        for noise in (0..seeds).map(|k| drawn.wrapping_add(k)) {
-            let mut case = draw_case(Kind::Break, index, seed).expect("a case");
-            case.scenario.seed = noise;
-            let out = run_case(&case).expect("the case runs");
-            let within = out.detected_after_s().is_some_and(|l| l <= out.rev_s);
-            if !within {
-                late.push(format!("noise seed {noise}: {:?}", out.first_alarm));
-            }
-        }
-        late
+        breaks_over_noise(index, seed, seeds)
+            .into_iter()
+            .filter(|(_, out)| !out.detected_after_s().is_some_and(|l| l <= out.rev_s))
+            .map(|(noise, out)| format!("noise seed {noise}: {:?}", out.first_alarm))
+            .collect()
     }
 
     /// An exit (3 flutes, R_r 1.02, 3 009 rpm) right after a noise pair that passed as the
