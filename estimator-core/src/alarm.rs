@@ -68,8 +68,10 @@
 //!     travel that takes that share, and one feed more), plus `3 sigma_R`, and the trip
 //!     is not armed beyond 0.9. Where the tooth of the next period lost force a revolution
 //!     ago and the tooth after it gained (together past 5 sigma_R, each past 1.5, of the
-//!     noise figure before the pair widened it: a flute broken inside its period, its loss
-//!     and the next flute's gain under the rules above), and the newest tooth lost under
+//!     noise figure before the pair widened it, the record before the loss not transient:
+//!     a flute broken inside its period, its loss and the next flute's gain under the
+//!     rules above; as an exit fades, flutes of unequal runout leave at unequal times),
+//!     and the newest tooth lost under
 //!     2 sigma_R (an exit may begin right after a noise pair; no matter after a pair past
 //!     7 sigma_R, which noise makes about once in millions of teeth), the trip is armed at
 //!     0.3 of the tooth and 4 sigma_R less the loss already seen, at least 2 sigma_R: that
@@ -494,8 +496,10 @@ pub struct AlarmState {
     p: f32,
     wear_warned: bool,
     latched: Option<AlarmEvent>,
-    /// The previous record carried no transient flag (the cut was steady before it).
+    /// The previous record carried no transient flag (the cut was steady before it); and
+    /// the one before it.
     prev_steady: bool,
+    prev2_steady: bool,
     /// The previous record's data was good and its watched force below the not-cutting
     /// floor (tool gone: two such teeth in a row).
     prev_dead: bool,
@@ -564,6 +568,7 @@ impl Default for AlarmState {
             wear_warned: false,
             latched: None,
             prev_steady: false,
+            prev2_steady: false,
             prev_dead: false,
             resumed: 0,
             trip_floor_n: f32::INFINITY,
@@ -860,7 +865,8 @@ impl Alarms {
             && rec.samples.abs_diff(st.last_samples) <= st.last_samples / 4;
         st.last_tooth = rec.tooth;
         st.last_samples = rec.samples;
-        let prev_steady = st.prev_steady;
+        let (prev_steady, prev2_steady) = (st.prev_steady, st.prev2_steady);
+        st.prev2_steady = prev_steady;
         st.prev_steady = !rec.status.contains(Status::TRANSIENT);
         if st.handed == Some(rec.tooth) {
             // Its next period is over: the evidence was for that one.
@@ -1081,7 +1087,9 @@ impl Alarms {
                 // The first-tooth rules, past a cheap screen (see `first_tooth`).
                 let (r0, before) = (st.force(0) - st.force(n), st.force(n));
                 if let Some(var) = noise {
-                    if self.handed_over(st, r0, var) {
+                    // (Out of a steady cut: the record before the loss not transient. As
+                    // an exit fades, flutes of unequal runout leave at unequal times.)
+                    if prev2_steady && self.handed_over(st, r0, var) {
                         st.handed = Some(st.tooth(1));
                         st.handed_loss_n = st.force(n + 1) - st.force(1);
                         let pair = r0 + st.handed_loss_n;
@@ -2100,6 +2108,39 @@ mod tests {
                 "{after:?}: {floor} vs {plain_floor}"
             );
         }
+    }
+
+    /// A loss and a gain after a transient record are no hand-over: as an exit fades over
+    /// revolutions (the monitor flags its records transient, not every one), flutes of
+    /// unequal runout leave the work at unequal times, one tooth down while the next is
+    /// up (seed 84, normal case 95: a pair of 5.3 sigma_R, then the exit's end emptied the
+    /// losing tooth's next period). The same pair out of a steady cut arms the trip lower.
+    #[test]
+    fn a_pair_after_a_transient_record_is_no_hand_over() {
+        let est = EstimatorConfig::default();
+        let a = AlarmConfig::default().build(&est).unwrap();
+        let arming = |transient: Option<usize>| {
+            let mut st = AlarmState::default();
+            for (i, &fx) in forces(3.0, 40, &[0.0, -24.0, 24.0, 0.0, 0.0])
+                .iter()
+                .enumerate()
+            {
+                let status = if Some(i) == transient {
+                    Status::TRANSIENT
+                } else {
+                    Status::AMBIGUOUS
+                };
+                a.process(&mut st, &record(i, fx, status));
+            }
+            (st.trip_floor_n(), st.trip_share())
+        };
+        assert_eq!(arming(None).1, EVIDENCE_SHARE);
+        // Record 160 is the one before the loss (161).
+        let (floor, share) = arming(Some(160));
+        assert!(
+            floor.is_infinite() || share >= TRIP_SHARE,
+            "{floor} {share}"
+        );
     }
 
     /// After a pair beyond 7 sigma_R (24 N lost and gained, about 10 sigma_R together: no

@@ -34,7 +34,11 @@
 //! open bin's samples so far count with it (each as its share of a bin); when the
 //! sum has lost more than a share of that tooth's whole force then (above the signal's
 //! level with nothing cut: the closed period's mean less its tangential force), the stage
-//! trips ([`Handover::arm_trip`], [`Handover::take_trip`]), mid-period. The alarm stage
+//! trips ([`Handover::arm_trip`], [`Handover::take_trip`]), mid-period; at the period's
+//! close, with the window's boundary placed, the whole period with its last bin (left out
+//! inside the period, where it takes a longer period's excess) is judged against the same
+//! limit: a loss the tooth average alone shows as a drop, which the rules on the records
+//! leave undecided until the next flute's gain. The alarm stage
 //! arms it after each record only where a drop alone is a broken flute (or a lost tool):
 //! out of a steady cut with a settled noise figure, the teeth before not losing (an
 //! exit's teeth all lose, the newest most), a share of half or more (what an exit whose
@@ -75,6 +79,13 @@ pub struct Handover {
     pub on: bool,
     /// Teeth per revolution.
     pub teeth: u8,
+    /// The armed trip is judged on the whole period at its close too: only with the
+    /// window's boundary placed ([`crate::window`]). At the pulse, wherever it sits, a
+    /// window holds the end of one flute's cut and the start of the next's, and an exit's
+    /// loss (centred on the feed direction) can fall mostly in one window, past the
+    /// exit's share of a tooth that the trip's share allows for; inside the period the
+    /// last bin left out is the margin (seed 2, normal case 12 at the pulse).
+    pub whole_at_close: bool,
 }
 
 /// Running state: about 0.8 KiB.
@@ -109,10 +120,12 @@ pub struct HandoverState {
     deficit: f32,
     trip: f32,
     tripped: bool,
-    /// The loss when it tripped; a bin's samples (the open period's bins are the closed
+    /// The loss when it tripped and the limit it passed (the period's close may have
+    /// disarmed it since); a bin's samples (the open period's bins are the closed
     /// period's length over `BINS`); the open bin's change so far (its samples less the
     /// bin's mean a revolution earlier, `cur_l`) and where it trips (see `sample`).
     lost: f32,
+    hit: f32,
     bin_len: f32,
     run: f32,
     cur_l: f32,
@@ -142,6 +155,7 @@ impl Default for HandoverState {
             deficit: 0.0,
             trip: f32::INFINITY,
             tripped: false,
+            hit: f32::INFINITY,
             lost: 0.0,
             bin_len: 1.0,
             run: 0.0,
@@ -169,11 +183,13 @@ pub enum Period {
 }
 
 impl Handover {
-    /// The stage for a tool of `flutes`; `motor`: the spindle channel is a current or load.
-    pub fn new(flutes: u8, motor: bool) -> Self {
+    /// The stage for a tool of `flutes`; `motor`: the spindle channel is a current or load;
+    /// `placed`: the window's boundary is placed where least is cut.
+    pub fn new(flutes: u8, motor: bool, placed: bool) -> Self {
         Handover {
             on: motor && (2..=MAX_TEETH as u8).contains(&flutes),
             teeth: flutes,
+            whole_at_close: placed,
         }
     }
 
@@ -208,6 +224,7 @@ impl Handover {
     #[inline(never)]
     fn trip_inside_bin(&self, st: &mut HandoverState) {
         st.tripped = true;
+        st.hit = st.trip;
         st.lost = -(st.deficit + st.run / st.bin_len);
         st.run_limit = f32::NEG_INFINITY;
     }
@@ -254,6 +271,7 @@ impl Handover {
         st.deficit = d;
         if d < -st.trip {
             st.tripped = true;
+            st.hit = st.trip;
             st.lost = -d;
         }
         Self::open_bin(st, bin);
@@ -312,7 +330,7 @@ impl Handover {
         }
         st.tripped = false;
         let scale = st.per_unit_n * (1.0 / BINS as f32);
-        let out = (st.lost * scale, st.trip * scale);
+        let out = (st.lost * scale, st.hit * scale);
         st.trip = f32::INFINITY;
         st.run_limit = f32::NEG_INFINITY;
         Some(out)
@@ -323,8 +341,12 @@ impl Handover {
     #[inline(never)]
     fn close(&self, st: &mut HandoverState, tooth: u8) {
         let slot = tooth as usize;
+        // The armed trip on the whole period: the last bin counts now that the period is
+        // complete (inside it, a longer period's excess made it no bin of the same angles).
+        let mut whole_lost = f32::NEG_INFINITY;
         match st.last.get_mut(slot) {
             Some(last) => {
+                let before = st.last_sum.get(slot).copied().unwrap_or(f32::NAN);
                 // A period shorter than the one its bins were sized by leaves its last
                 // bin (at a jittered pulse, most periods) without a sample: it holds the
                 // mean of the bin before. Bin 0 always has the period's first sample.
@@ -347,6 +369,11 @@ impl Handover {
                     *t = total;
                 }
                 st.change_ok = st.filled & (1 << slot) != 0;
+                // (Only a period that reached its last bin: one cut short by a glitch
+                // holds its last complete bin's mean in the bins it never reached.)
+                if self.whole_at_close && st.open == tooth && st.fold as usize == BINS - 1 {
+                    whole_lost = before - total;
+                }
             }
             None => st.change_ok = false,
         }
@@ -355,8 +382,13 @@ impl Handover {
         st.open = ((tooth as usize + 1) % (self.teeth.max(1) as usize)) as u8;
         st.fold = 0;
         st.deficit = 0.0;
+        // (Not `>=`: a NaN loss does not trip.)
+        if !st.tripped && whole_lost > st.trip {
+            st.tripped = true;
+            st.lost = whole_lost;
+            st.hit = st.trip;
+        }
         st.trip = f32::INFINITY;
-        st.tripped = false;
         Self::open_bin(st, 0);
     }
 
@@ -511,7 +543,17 @@ mod tests {
         unusable: &[usize],
         trip: Option<f32>,
     ) -> (Vec<(f32, f32)>, Option<(usize, usize, f32)>) {
-        let h = Handover::new(N, true);
+        feed_with(Handover::new(N, true, true), periods, unusable, trip)
+    }
+
+    /// [`feed`] through `h`.
+    #[allow(clippy::type_complexity)]
+    fn feed_with(
+        h: Handover,
+        periods: &[Vec<f32>],
+        unusable: &[usize],
+        trip: Option<f32>,
+    ) -> (Vec<(f32, f32)>, Option<(usize, usize, f32)>) {
         let mut st = HandoverState::default();
         let mut out = Vec::new();
         let mut step = 0u32;
@@ -672,6 +714,47 @@ mod tests {
         assert!(worst < LEN / BINS, "{worst} samples off");
     }
 
+    /// At the period's close the whole period counts, its last bin too (inside the period
+    /// it is left out: it takes a longer period's excess). Periods of equal length whose
+    /// last bin holds the start of the next flute's cut (arcs wider than a pitch): a
+    /// period that loses that bin alone (10 units, a tenth of the tooth) trips at its
+    /// close where the limit is under it, not where it is over it, nor with the window at
+    /// the pulse; a period cut short before its last bin is not judged.
+    #[test]
+    fn the_whole_period_is_judged_at_its_close() {
+        let tail = |i: usize| if i >= LEN - LEN / BINS { 10.0 } else { 0.0 };
+        let k = 61;
+        let mut p: Vec<Vec<f32>> = (0..40 * N as usize)
+            .map(|j| {
+                let gain = if j % N as usize == 0 { 1.3 } else { 1.0 };
+                (0..LEN).map(|i| gain * flute(i) + tail(i)).collect()
+            })
+            .collect();
+        for (i, x) in p[k].iter_mut().enumerate() {
+            *x -= tail(i);
+        }
+        // The tooth's content in sums of bin means: its samples over a bin's length.
+        let content: f32 = (0..LEN).map(|i| flute(i) + tail(i)).sum::<f32>() / 3.0;
+        let (under, over) = (5.0 / content, 15.0 / content);
+        assert_eq!(
+            feed(&p, &[], Some(under)).1.map(|t| (t.0, t.1)),
+            Some((k + 1, 0))
+        );
+        assert_eq!(feed(&p, &[], Some(over)).1, None);
+        // With the window at the pulse, only inside the period.
+        let at_pulse = Handover::new(N, true, false);
+        assert_eq!(feed_with(at_pulse, &p, &[], Some(under)).1, None);
+        // A period cut short by a glitch in the gap, before its last two bins (the monitor
+        // flags it and the one after, binned by its length, unusable): the bins it never
+        // reached hold its last bin's mean, 10 less than the tail there a revolution
+        // earlier. It is not judged.
+        for (i, x) in p[k].iter_mut().enumerate() {
+            *x += tail(i);
+        }
+        p[k].truncate(LEN - 6);
+        assert_eq!(feed(&p, &[k, k + 1], Some(under)).1, None);
+    }
+
     #[test]
     fn an_exit_and_an_entry_are_no_hand_over() {
         // Every tooth loses (an exit: the arc's far end leaves the work first) or gains (an
@@ -708,8 +791,8 @@ mod tests {
 
     #[test]
     fn off_beyond_max_teeth_and_for_a_dynamometer() {
-        assert!(!Handover::new(MAX_TEETH as u8 + 1, true).on);
-        assert!(!Handover::new(4, false).on);
-        assert!(Handover::new(MAX_TEETH as u8, true).on);
+        assert!(!Handover::new(MAX_TEETH as u8 + 1, true, true).on);
+        assert!(!Handover::new(4, false, true).on);
+        assert!(Handover::new(MAX_TEETH as u8, true, true).on);
     }
 }

@@ -197,7 +197,11 @@ impl MonitorConfig {
         if timing.min_period < 2 {
             return Err(OutOfRange("max_rpm"));
         }
-        let handover = Handover::new(n as u8, matches!(self.input, Input::Motor { .. }));
+        let handover = Handover::new(
+            n as u8,
+            matches!(self.input, Input::Motor { .. }),
+            self.align_window,
+        );
         let boundary = Window {
             align: self.align_window,
             teeth_per_pulse: match self.sync {
