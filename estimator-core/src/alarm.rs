@@ -71,18 +71,17 @@
 //!     noise figure before the pair widened it, the record before the loss not transient:
 //!     a flute broken inside its period, its loss and the next flute's gain under the
 //!     rules above; as an exit fades, flutes of unequal runout leave at unequal times),
-//!     and the newest tooth lost under
-//!     2 sigma_R (an exit may begin right after a noise pair; no matter after a pair past
-//!     7 sigma_R, which noise makes about once in millions of teeth), the trip is armed at
-//!     0.3 of the tooth and 4 sigma_R less the loss already seen, at least 2 sigma_R: that
-//!     pair happens by noise about once in 10 000 teeth, and then this period must lose
-//!     more (its reference, the period of the loss, already lacks what the broken flute
-//!     did not cut). The period before that tooth's is armed at 0.3 and 4 sigma_R too
-//!     (3 flutes or more): where arcs are wider than a pitch no boundary falls between
-//!     cuts, the broken flute's cut begins in the window before the one that lost most,
-//!     and so does its next pass, and the loss seen there is the newest tooth's loss that
-//!     a strong pair lets pass. The monitor
-//!     passes it only while the feed speed holds (a feed hold thins every chip at once).
+//!     and the newest tooth lost under 2 sigma_R (an exit may begin right after a noise
+//!     pair; no matter after a pair past 7 sigma_R, which noise makes about once in
+//!     millions of teeth), the trip is armed at 0.3 of the tooth and 4 sigma_R less the
+//!     loss already seen, at least 2 sigma_R: that pair happens by noise about once in
+//!     10 000 teeth, and then this period must lose more (its reference, the period of
+//!     the loss, already lacks what the broken flute did not cut). The period before that
+//!     tooth's is armed at 0.3 and 4 sigma_R too (3 flutes or more): where arcs are wider
+//!     than a pitch no boundary falls between cuts, the broken flute's cut begins in the
+//!     window before the one that lost most, and so does its next pass, and the loss seen
+//!     there is the newest tooth's loss that a strong pair lets pass. The monitor passes
+//!     it only while the feed speed holds (a feed hold thins every chip at once).
 //!     The trip latches the output at once (the event keeps that sample); the records
 //!     after it name the cause: a rule that raises on them, else after
 //!     [`TRIP_NAMED_WITHIN`] records a lost tool if the last two teeth collapsed, a
@@ -1752,9 +1751,9 @@ impl Alarms {
     /// Runout of 35 % leaves the weakest flute over 60 % of the mean; in a cut where
     /// windows hold one flute each, a lost flute leaves its period empty, but where the
     /// arcs are wider than a pitch its window keeps the end of the cut before it (a third
-    /// of the mean at seed 30, break case 80; seed 118, case 62). The newest tooth is left out: empty
-    /// alone it is the first of a lost tool (two empty in a row are `collapsed`, tool
-    /// gone). Returns the least and the limit.
+    /// of the mean at seed 30, break case 80; seed 118, case 62). The newest tooth is left
+    /// out: empty alone it is the first of a lost tool (two empty in a row are
+    /// `collapsed`, tool gone). Returns the least and the limit.
     #[cold]
     #[inline(never)]
     fn flute_missing(&self, st: &AlarmState, mean: f32) -> Option<(f32, f32)> {
@@ -2147,8 +2146,8 @@ mod tests {
     /// noise an exit could follow), the losing tooth's trip is armed at 0.3 even though
     /// the newest tooth lost 20 N (about 4 sigma_R): where arcs are wider than a pitch that
     /// is the broken flute's cut where it begins, in the window before. After a pair of
-    /// 16 N (about 6 sigma_R with the noise) the same loss is an exit's first tooth, and the trip is not armed
-    /// lower.
+    /// 16 N (about 6 sigma_R with the noise) the same loss is an exit's first tooth, and
+    /// the trip is not armed lower.
     #[test]
     fn after_a_strong_pair_the_newest_tooths_loss_does_not_disarm() {
         let (floor, share) = trip_arming_after(&[0.0, -24.0, 24.0, 0.0, -20.0]);
