@@ -975,8 +975,7 @@ mod held_out_tests {
     /// revolutions later.
     #[test]
     fn a_flute_broken_early_in_the_cut_is_caught_within_a_revolution() {
-        let late = late_over_noise(1, 23, 8);
-        assert!(late.is_empty(), "{late:#?}");
+        all_within_a_revolution(&[(1, 23)]);
     }
 
     /// Break case `index` at draw seed `seed`, run with its own noise seed and the
@@ -1030,6 +1029,15 @@ mod held_out_tests {
             .collect()
     }
 
+    /// Break cases `(index, draw seed)`, each over 8 noise seeds (its own first): every
+    /// run's alarm within a revolution of the damage.
+    fn all_within_a_revolution(cases: &[(usize, u64)]) {
+        for &(index, seed) in cases {
+            let late = late_over_noise(index, seed, 8);
+            assert!(late.is_empty(), "case {index} at seed {seed}: {late:#?}");
+        }
+    }
+
     /// An exit (3 flutes, R_r 1.02, 3 009 rpm) right after a noise pair that passed as the
     /// evidence of a hand-over (one tooth 52 N down, the next 40 N up, 5.4 sigma_R
     /// together): the exit's first tooth, the one after the pair, lost 2.8 sigma_R, under
@@ -1049,8 +1057,7 @@ mod held_out_tests {
     /// sigma_R).
     #[test]
     fn a_flute_broken_inside_its_period_has_its_loss_counted_toward_the_trip() {
-        let late = late_over_noise(61, 26, 8);
-        assert!(late.is_empty(), "{late:#?}");
+        all_within_a_revolution(&[(61, 26)]);
     }
 
     /// A 4-flute tool in a wide arc (down milling, R_r 1.5, 2 554 rpm), a flute broken at
@@ -1073,8 +1080,7 @@ mod held_out_tests {
     /// is armed at 4 sigma and 0.3 of the tooth.
     #[test]
     fn a_flute_broken_inside_its_period_trips_before_its_break_angle() {
-        let late = late_over_noise(54, 22, 8);
-        assert!(late.is_empty(), "{late:#?}");
+        all_within_a_revolution(&[(54, 22)]);
     }
 
     /// A flute of a 2-flute tool broken a fifth from the end of its period (down milling,
@@ -1085,8 +1091,7 @@ mod held_out_tests {
     /// seeds, its own; the others gained more). A hand-over's gain need only be one now.
     #[test]
     fn a_loss_whose_gain_spread_over_two_periods_arms_the_trip() {
-        let late = late_over_noise(117, 24, 8);
-        assert!(late.is_empty(), "{late:#?}");
+        all_within_a_revolution(&[(117, 24)]);
     }
 
     /// Two 4-flute tools in up milling with arcs wider than a pitch (R_r 1.30 and 1.17,
@@ -1098,10 +1103,7 @@ mod held_out_tests {
     /// revolutions on. A pair past 7 sigma_R is no noise an exit could follow.
     #[test]
     fn a_strong_hand_over_arms_the_trip_though_the_window_before_lost() {
-        for (index, seed) in [(0, 20), (57, 69)] {
-            let late = late_over_noise(index, seed, 8);
-            assert!(late.is_empty(), "case {index} at seed {seed}: {late:#?}");
-        }
+        all_within_a_revolution(&[(0, 20), (57, 69)]);
     }
 
     /// Flutes whose next pass lost past the trip's limit only with the period's last bin
@@ -1112,10 +1114,7 @@ mod held_out_tests {
     /// damage. The period's close judges the whole period against the trip's limit.
     #[test]
     fn a_loss_past_the_trip_with_the_last_bin_trips_at_the_close() {
-        for (index, seed) in [(100, 96), (29, 43), (32, 49)] {
-            let late = late_over_noise(index, seed, 8);
-            assert!(late.is_empty(), "case {index} at seed {seed}: {late:#?}");
-        }
+        all_within_a_revolution(&[(100, 96), (29, 43), (32, 49)]);
     }
 
     /// An exit fading over revolutions in a light cut (3 flutes, tooth averages of 30-80
@@ -1138,10 +1137,7 @@ mod held_out_tests {
     /// the revolution. It asks 45 % now.
     #[test]
     fn a_flute_broken_after_a_move_whose_window_keeps_a_cut_is_caught() {
-        for (index, seed) in [(80, 30), (62, 118)] {
-            let late = late_over_noise(index, seed, 8);
-            assert!(late.is_empty(), "case {index} at seed {seed}: {late:#?}");
-        }
+        all_within_a_revolution(&[(80, 30), (62, 118)]);
     }
 
     /// Two 4-flute tools in down milling whose arcs are wider than a pitch (no boundary
@@ -1154,9 +1150,6 @@ mod held_out_tests {
     /// one is armed at the evidence's share too.
     #[test]
     fn a_flute_whose_cut_begins_in_the_window_before_the_loss_trips_there() {
-        for (index, seed) in [(119, 94), (40, 89)] {
-            let late = late_over_noise(index, seed, 8);
-            assert!(late.is_empty(), "case {index} at seed {seed}: {late:#?}");
-        }
+        all_within_a_revolution(&[(119, 94), (40, 89)]);
     }
 }
