@@ -66,14 +66,21 @@
 //!     two feeds per tooth of travel, or less where the newest tooth shows how far an
 //!     exit under way can have gone (it lost under 6 sigma_R of its force: at most the
 //!     travel that takes that share, and one feed more), plus `3 sigma_R`, and the trip
-//!     is not armed beyond 0.9. Where the tooth of the next period lost force a revolution
-//!     ago and the tooth after it gained (together past 5 sigma_R, each past 1.5, of the
-//!     noise figure before the pair widened it, the record before the loss not transient:
+//!     is not armed beyond 0.9. The floor counts the next tooth's loss a revolution ago
+//!     (past 1.5 sigma_R, at least 2 sigma_R left): that period is the reference, and a
+//!     flute broken inside it left less there to lose; the loss over the two revolutions
+//!     together must pass 6 sigma_R (a difference of two tooth averages: the noise of one
+//!     `R`). Only with the last `2N` records not transient: as an exit fades over
+//!     revolutions each tooth's loss is the exit's (seeds 6, 16, 36: the credit let exits
+//!     trip). Where the tooth of the next period lost force a revolution
+//!     ago and the tooth after it gained (together past 4.5 sigma_R, 5 where the loss's
+//!     record is flagged transient, each past 1.5, of the noise figure before the pair
+//!     widened it, the record before the loss not transient:
 //!     a flute broken inside its period, its loss and the next flute's gain under the
 //!     rules above; as an exit fades, flutes of unequal runout leave at unequal times),
 //!     and the newest tooth lost under 2 sigma_R (an exit may begin right after a noise
-//!     pair; no matter after a pair past 7 sigma_R, which noise makes about once in
-//!     millions of teeth), the trip is armed at 0.3 of the tooth and 4 sigma_R less the
+//!     pair; no matter after a pair past 6 sigma_R, which noise makes about once in
+//!     100 000 teeth), the trip is armed at 0.3 of the tooth and 4 sigma_R less the
 //!     loss already seen, at least 2 sigma_R: that pair happens by noise about once in
 //!     10 000 teeth, and then this period must lose more (its reference, the period of
 //!     the loss, already lacks what the broken flute did not cut). The period before that
@@ -499,6 +506,8 @@ pub struct AlarmState {
     /// the one before it.
     prev_steady: bool,
     prev2_steady: bool,
+    /// Records in a row, the newest included, with no transient flag.
+    steady_teeth: u8,
     /// The previous record's data was good and its watched force below the not-cutting
     /// floor (tool gone: two such teeth in a row).
     prev_dead: bool,
@@ -568,6 +577,7 @@ impl Default for AlarmState {
             latched: None,
             prev_steady: false,
             prev2_steady: false,
+            steady_teeth: 0,
             prev_dead: false,
             resumed: 0,
             trip_floor_n: f32::INFINITY,
@@ -646,11 +656,14 @@ const EXIT_HIDDEN_SIGMAS: f32 = 6.0;
 /// with the next flute's gain in it, rarely loses more).
 const TRIP_MAX_SHARE: f32 = 0.9;
 /// A tooth's loss and the next tooth's gain, together beyond this many sigma of `R` (the
-/// gaining tooth's `E`, about 3.5 sigma_E; see `Alarms::handed_over`): the drop trip of
+/// gaining tooth's `E`, about 3.2 sigma_E; see `Alarms::handed_over`): the drop trip of
 /// the losing tooth's next period is armed at [`EVIDENCE_SHARE`] and
 /// [`EVIDENCE_TRIP_SIGMAS`]. The loss is often the larger: the broken flute's is in its
 /// own period, the next flute's gain spreads over two where the arcs overlap.
-const EVIDENCE_SIGMAS: f32 = 5.0;
+const EVIDENCE_SIGMAS: f32 = 4.5;
+/// ... or this many where the loss's own record was flagged transient (an exit may begin
+/// with a flagged record: seed 110, normal case 81, a pair of 4.7 at 4.5 alone).
+const EVIDENCE_FLAGGED_SIGMAS: f32 = 5.0;
 /// ... the loss beyond this many.
 const EVIDENCE_EACH_SIGMAS: f32 = 1.5;
 /// ... the trip's share then ...
@@ -660,9 +673,9 @@ const EVIDENCE_TRIP_SIGMAS: f32 = 4.0;
 /// ... but at least this many; and only where the newest tooth lost less than this many.
 const EVIDENCE_MIN_SIGMAS: f32 = 2.0;
 const EVIDENCE_KEPT_SIGMAS: f32 = 2.0;
-/// ... unless the pair was beyond this many sigma of `R` (about 5 sigma of `E`, once in
-/// millions of teeth by noise).
-const EVIDENCE_STRONG_SIGMAS: f32 = 7.0;
+/// ... unless the pair was beyond this many sigma of `R` (4.2 sigma of the pair, about
+/// once in 100 000 teeth by noise; at 7, seed 45 case 34's 6.3 was late).
+const EVIDENCE_STRONG_SIGMAS: f32 = 6.0;
 /// A trip is named by the rules on the records after it, or after this many records: a
 /// lost tool leaves the tripped period partly cut and the two after it empty.
 pub const TRIP_NAMED_WITHIN: u8 = 3;
@@ -867,6 +880,11 @@ impl Alarms {
         let (prev_steady, prev2_steady) = (st.prev_steady, st.prev2_steady);
         st.prev2_steady = prev_steady;
         st.prev_steady = !rec.status.contains(Status::TRANSIENT);
+        st.steady_teeth = if st.prev_steady {
+            st.steady_teeth.saturating_add(1)
+        } else {
+            0
+        };
         if st.handed == Some(rec.tooth) {
             // Its next period is over: the evidence was for that one.
             st.handed = None;
@@ -1088,7 +1106,7 @@ impl Alarms {
                 if let Some(var) = noise {
                     // (Out of a steady cut: the record before the loss not transient. As
                     // an exit fades, flutes of unequal runout leave at unequal times.)
-                    if prev2_steady && self.handed_over(st, r0, var) {
+                    if prev2_steady && self.handed_over(st, r0, var, prev_steady) {
                         st.handed = Some(st.tooth(1));
                         st.handed_loss_n = st.force(n + 1) - st.force(1);
                         let pair = r0 + st.handed_loss_n;
@@ -1199,8 +1217,27 @@ impl Alarms {
                     );
                     Some((EVIDENCE_SHARE, floor))
                 } else if self.no_recent_loss(st, TRIP_QUIET_SIGMAS * TRIP_QUIET_SIGMAS * var_r) {
-                    self.trip_share(st, rec.tc_mm, sigma_r)
-                        .map(|share| (share, FIRST_TOOTH_SIGMAS * sigma_r))
+                    let credit = if st.armed & self.armed_two_revs == self.armed_two_revs
+                        && st.steady_teeth as usize >= 2 * n
+                    {
+                        let lost = st.force(2 * n - 1) - st.force(n - 1);
+                        if lost > EVIDENCE_EACH_SIGMAS * sigma_r {
+                            lost
+                        } else {
+                            0.0
+                        }
+                    } else {
+                        0.0
+                    };
+                    self.trip_share(st, rec.tc_mm, sigma_r).map(|share| {
+                        (
+                            share,
+                            crate::fmath::max(
+                                FIRST_TOOTH_SIGMAS * sigma_r - credit,
+                                EVIDENCE_MIN_SIGMAS * sigma_r,
+                            ),
+                        )
+                    })
                 } else {
                     None
                 };
@@ -1551,22 +1588,25 @@ impl Alarms {
     }
 
     /// Whether the tooth before the newest lost force from one revolution earlier and the
-    /// newest gained (`r0`), together by more than [`EVIDENCE_SIGMAS`] of `R`, the loss by
+    /// newest gained (`r0`), together by more than [`EVIDENCE_SIGMAS`] of `R` (or
+    /// [`EVIDENCE_FLAGGED_SIGMAS`] unless `loss_steady`, the loss's record unflagged), the loss by
     /// [`EVIDENCE_EACH_SIGMAS`] (`var`: E's variance before this tooth's `E` widens it): a
     /// flute that broke inside its period, its loss and the next flute's gain under the
     /// thresholds. The gain need only be one: where the arcs overlap, the next flute's
     /// gain spreads over two periods, and an exit's next tooth loses more, never gains.
     /// Squares: no root.
     #[inline(always)]
-    fn handed_over(&self, st: &AlarmState, r0: f32, var: f32) -> bool {
+    fn handed_over(&self, st: &AlarmState, r0: f32, var: f32, loss_steady: bool) -> bool {
         let var_r = 0.5 * var;
         let r1 = st.force(1) - st.force(self.n + 1);
         let each = EVIDENCE_EACH_SIGMAS * EVIDENCE_EACH_SIGMAS * var_r;
         let both = r0 - r1;
-        r0 > 0.0
-            && r1 < 0.0
-            && r1 * r1 > each
-            && both * both > EVIDENCE_SIGMAS * EVIDENCE_SIGMAS * var_r
+        let sigmas = if loss_steady {
+            EVIDENCE_SIGMAS
+        } else {
+            EVIDENCE_FLAGGED_SIGMAS
+        };
+        r0 > 0.0 && r1 < 0.0 && r1 * r1 > each && both * both > sigmas * sigmas * var_r
     }
 
     /// E's variance for the breakage thresholds and the drop trip, `None` before
@@ -2142,7 +2182,45 @@ mod tests {
         );
     }
 
-    /// After a pair beyond 7 sigma_R (24 N lost and gained, about 10 sigma_R together: no
+    /// A pair between 4.5 and 5 sigma_R is a hand-over where the loss's own record is not
+    /// transient, and none where it is (seed 110, normal case 81: a light cut whose exit
+    /// began with a flagged record, one tooth down and the next up by 4.7 sigma_R).
+    #[test]
+    fn a_weak_pair_needs_its_loss_unflagged() {
+        let est = EstimatorConfig::default();
+        let a = AlarmConfig::default().build(&est).unwrap();
+        let arming = |flagged: bool| {
+            let mut st = AlarmState::default();
+            let f = forces(3.0, 40, &[0.0, -14.5, 14.5, 0.0, 0.0]);
+            let mut pair = 0.0;
+            for (i, &fx) in f.iter().enumerate() {
+                let status = if flagged && i == 161 {
+                    Status::TRANSIENT
+                } else {
+                    Status::AMBIGUOUS
+                };
+                if i == 162 {
+                    let r = |k: usize| f[k] - f[k - 4];
+                    pair = (r(162) - r(161)) / libm::sqrtf(0.5 * st.e_var);
+                }
+                a.process(&mut st, &record(i, fx, status));
+            }
+            (st.trip_floor_n(), st.trip_share(), pair)
+        };
+        let (_, share, pair) = arming(false);
+        assert!(
+            pair > EVIDENCE_SIGMAS && pair < EVIDENCE_FLAGGED_SIGMAS,
+            "{pair}"
+        );
+        assert_eq!(share, EVIDENCE_SHARE, "{pair}");
+        let (floor, share, _) = arming(true);
+        assert!(
+            floor.is_infinite() || share >= TRIP_SHARE,
+            "{floor} {share}"
+        );
+    }
+
+    /// After a pair beyond 6 sigma_R (24 N lost and gained, about 10 sigma_R together: no
     /// noise an exit could follow), the losing tooth's trip is armed at 0.3 even though
     /// the newest tooth lost 20 N (about 4 sigma_R): where arcs are wider than a pitch that
     /// is the broken flute's cut where it begins, in the window before. After a pair of
@@ -2162,6 +2240,53 @@ mod tests {
             floor.is_infinite() || share >= TRIP_SHARE,
             "{floor} {share}"
         );
+    }
+
+    /// The plain trip's floor (6 sigma_R) counts the loss the next tooth took a revolution
+    /// ago, past 1.5 sigma_R, out of a steady cut: that period is the trip's reference, and
+    /// a flute broken inside it left less there to lose (a weak flute under runout,
+    /// whose whole force is about 6 sigma_R, is caught on its next pass). Not a loss in the
+    /// noise, nor one with a transient record in the two revolutions (an exit: each
+    /// tooth's loss a revolution ago is the exit's).
+    #[test]
+    fn the_loss_the_next_tooth_took_counts_toward_the_plain_floor() {
+        let est = EstimatorConfig::default();
+        let a = AlarmConfig::default().build(&est).unwrap();
+        // Tooth 1 (the next period's) loses `loss` in the revolution before the last;
+        // `transient`: a record of the last revolution flagged.
+        let arming = |loss: f32, transient: bool| {
+            let f = forces(3.0, 40, &[0.0, -loss, 0.0, 0.0, 0.0]);
+            let mut st = AlarmState::default();
+            for (i, &fx) in f.iter().enumerate() {
+                let status = if transient && i == f.len() - 2 {
+                    Status::TRANSIENT
+                } else {
+                    Status::AMBIGUOUS
+                };
+                let out = a.process(&mut st, &record(i, fx, status));
+                assert!(out.event.is_none(), "{loss}: record {i}");
+            }
+            let sigma_r = libm::sqrtf(0.5 * st.e_var);
+            (st.trip_floor_n(), st.trip_share(), sigma_r)
+        };
+        let (plain, plain_share, sigma_r) = arming(0.0, false);
+        assert!(plain_share >= TRIP_SHARE);
+        assert!(
+            (plain / sigma_r - FIRST_TOOTH_SIGMAS).abs() < 0.3,
+            "{plain} {sigma_r}"
+        );
+        for loss in [12.0, 16.0] {
+            let (floor, share, s) = arming(loss, false);
+            let want = FIRST_TOOTH_SIGMAS * s - loss;
+            assert!((floor - want).abs() < 0.1 * s, "{loss}: {floor} vs {want}");
+            // (The share is not lowered: its noise term grows as the reference falls.)
+            assert!(share >= plain_share, "{loss}: {share}");
+        }
+        // Under 1.5 sigma_R: noise.
+        let (floor, _, s) = arming(4.0, false);
+        assert!((floor / s - FIRST_TOOTH_SIGMAS).abs() < 0.3, "{floor} {s}");
+        let (floor, _, s) = arming(16.0, true);
+        assert!(floor >= 0.95 * FIRST_TOOTH_SIGMAS * s, "{floor} {s}");
     }
 
     /// The loss the handed tooth took a revolution ago counts toward its trip's floor
