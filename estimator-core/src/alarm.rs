@@ -71,8 +71,8 @@
 //!     flute broken inside it left less there to lose; the loss over the two revolutions
 //!     together must pass 6 sigma_R (a difference of two tooth averages: the noise of one
 //!     `R`). Only with the last `2N` records not transient: as an exit fades over
-//!     revolutions each tooth's loss is the exit's (seeds 6, 16, 36: the credit let exits
-//!     trip). Where the tooth of the next period lost force a revolution
+//!     revolutions each tooth's loss is the exit's (every loss credited let exits trip:
+//!     seed 72 taught 22; and through flagged records, seed 36 normal 22). Where the tooth of the next period lost force a revolution
 //!     ago and the tooth after it gained (together past 4.5 sigma_R, 5 where the loss's
 //!     record is flagged transient, each past 1.5, of the noise figure before the pair
 //!     widened it, the record before the loss not transient:

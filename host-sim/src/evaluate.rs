@@ -1128,6 +1128,29 @@ mod held_out_tests {
         all_within_a_revolution(&[(52, 38)]);
     }
 
+    /// The exits that the rejected variants of the two rules above raised false alarms on,
+    /// each over 16 noise seeds: the floor's credit through exits fading over revolutions
+    /// (seed 6 normal 71, seed 16 normal 74, seed 36 normal 22), the share credited too (seed
+    /// 113 normal 63 and seed 72 taught 22, within 2-6 N of the plain trip), the evidence at
+    /// 4.5 sigma_R with the loss's record flagged (seed 110 normal 81).
+    #[test]
+    fn exits_near_the_trip_raise_nothing() {
+        for (kind, index, seed) in [
+            (Kind::Normal, 71, 6),
+            (Kind::Normal, 74, 16),
+            (Kind::Normal, 22, 36),
+            (Kind::Normal, 63, 113),
+            (Kind::Taught, 22, 72),
+            (Kind::Normal, 81, 110),
+        ] {
+            let raised = alarms_over_noise(kind, index, seed, 16);
+            assert!(
+                raised.is_empty(),
+                "{kind:?} {index} at seed {seed}: {raised:#?}"
+            );
+        }
+    }
+
     /// Hand-overs of 4.5-7 sigma_R: seed 45, case 34 (a pair of 6.3 sigma_R: strong now,
     /// the window before may lose), seed 46, case 61 and seed 99, case 59 (pairs of 4.6-5.2
     /// sigma_R, the evidence now from 4.5 where the loss's own record is not transient).
