@@ -502,12 +502,8 @@ pub struct AlarmState {
     p: f32,
     wear_warned: bool,
     latched: Option<AlarmEvent>,
-    /// The previous record carried no transient flag (the cut was steady before it); and
-    /// the one before it.
-    prev_steady: bool,
-    prev2_steady: bool,
-    /// Records in a row, the newest included, with no transient flag.
-    steady_teeth: u8,
+    /// Bit `k`: the record `k` back (0 the newest) carried no transient flag.
+    unflagged: u32,
     /// The previous record's data was good and its watched force below the not-cutting
     /// floor (tool gone: two such teeth in a row).
     prev_dead: bool,
@@ -575,9 +571,7 @@ impl Default for AlarmState {
             p: P0,
             wear_warned: false,
             latched: None,
-            prev_steady: false,
-            prev2_steady: false,
-            steady_teeth: 0,
+            unflagged: 0,
             prev_dead: false,
             resumed: 0,
             trip_floor_n: f32::INFINITY,
@@ -877,14 +871,10 @@ impl Alarms {
             && rec.samples.abs_diff(st.last_samples) <= st.last_samples / 4;
         st.last_tooth = rec.tooth;
         st.last_samples = rec.samples;
-        let (prev_steady, prev2_steady) = (st.prev_steady, st.prev2_steady);
-        st.prev2_steady = prev_steady;
-        st.prev_steady = !rec.status.contains(Status::TRANSIENT);
-        st.steady_teeth = if st.prev_steady {
-            st.steady_teeth.saturating_add(1)
-        } else {
-            0
-        };
+        // The cut was steady before this record (the one before it unflagged); and before
+        // that one.
+        let (prev_steady, prev2_steady) = (st.unflagged & 1 != 0, st.unflagged & 2 != 0);
+        st.unflagged = st.unflagged << 1 | u32::from(!rec.status.contains(Status::TRANSIENT));
         if st.handed == Some(rec.tooth) {
             // Its next period is over: the evidence was for that one.
             st.handed = None;
@@ -1217,25 +1207,18 @@ impl Alarms {
                     );
                     Some((EVIDENCE_SHARE, floor))
                 } else if self.no_recent_loss(st, TRIP_QUIET_SIGMAS * TRIP_QUIET_SIGMAS * var_r) {
-                    let credit = if st.armed & self.armed_two_revs == self.armed_two_revs
-                        && st.steady_teeth as usize >= 2 * n
-                    {
-                        let lost = st.force(2 * n - 1) - st.force(n - 1);
-                        if lost > EVIDENCE_EACH_SIGMAS * sigma_r {
-                            lost
-                        } else {
-                            0.0
-                        }
-                    } else {
-                        0.0
-                    };
                     self.trip_share(st, rec.tc_mm, sigma_r).map(|share| {
+                        // The next tooth's loss a revolution ago, out of a steady cut: its
+                        // period then is the reference now.
+                        let lost = st.force(2 * n - 1) - st.force(n - 1);
+                        let credited = st.armed & self.armed_two_revs == self.armed_two_revs
+                            && (!st.unflagged).trailing_zeros() as usize >= 2 * n
+                            && lost > EVIDENCE_EACH_SIGMAS * sigma_r;
+                        let floor =
+                            FIRST_TOOTH_SIGMAS * sigma_r - if credited { lost } else { 0.0 };
                         (
                             share,
-                            crate::fmath::max(
-                                FIRST_TOOTH_SIGMAS * sigma_r - credit,
-                                EVIDENCE_MIN_SIGMAS * sigma_r,
-                            ),
+                            crate::fmath::max(floor, EVIDENCE_MIN_SIGMAS * sigma_r),
                         )
                     })
                 } else {
@@ -2056,13 +2039,26 @@ mod tests {
 
     /// The trip's floor and share, after steady forces with `after` appended.
     fn trip_arming_after(after: &[f32]) -> (f32, f32) {
+        let (st, _) = armed_after(after, None);
+        (st.trip_floor_n(), st.trip_share())
+    }
+
+    /// The state after steady forces with `after` appended (`forces(3.0, 40, after)`), as
+    /// records, the record `flagged` transient; and the events raised.
+    fn armed_after(after: &[f32], flagged: Option<usize>) -> (AlarmState, usize) {
         let est = EstimatorConfig::default();
         let a = AlarmConfig::default().build(&est).unwrap();
         let mut st = AlarmState::default();
+        let mut events = 0;
         for (i, &fx) in forces(3.0, 40, after).iter().enumerate() {
-            a.process(&mut st, &record(i, fx, Status::AMBIGUOUS));
+            let status = if Some(i) == flagged {
+                Status::TRANSIENT
+            } else {
+                Status::AMBIGUOUS
+            };
+            events += usize::from(a.process(&mut st, &record(i, fx, status)).event.is_some());
         }
-        (st.trip_floor_n(), st.trip_share())
+        (st, events)
     }
 
     /// The noise floor follows the force up: a cut whose force doubles (with its noise, as
@@ -2156,21 +2152,8 @@ mod tests {
     /// losing tooth's next period). The same pair out of a steady cut arms the trip lower.
     #[test]
     fn a_pair_after_a_transient_record_is_no_hand_over() {
-        let est = EstimatorConfig::default();
-        let a = AlarmConfig::default().build(&est).unwrap();
         let arming = |transient: Option<usize>| {
-            let mut st = AlarmState::default();
-            for (i, &fx) in forces(3.0, 40, &[0.0, -24.0, 24.0, 0.0, 0.0])
-                .iter()
-                .enumerate()
-            {
-                let status = if Some(i) == transient {
-                    Status::TRANSIENT
-                } else {
-                    Status::AMBIGUOUS
-                };
-                a.process(&mut st, &record(i, fx, status));
-            }
+            let (st, _) = armed_after(&[0.0, -24.0, 24.0, 0.0, 0.0], transient);
             (st.trip_floor_n(), st.trip_share())
         };
         assert_eq!(arming(None).1, EVIDENCE_SHARE);
@@ -2187,24 +2170,15 @@ mod tests {
     /// began with a flagged record, one tooth down and the next up by 4.7 sigma_R).
     #[test]
     fn a_weak_pair_needs_its_loss_unflagged() {
-        let est = EstimatorConfig::default();
-        let a = AlarmConfig::default().build(&est).unwrap();
+        let after = [0.0, -14.5, 14.5, 0.0, 0.0];
         let arming = |flagged: bool| {
-            let mut st = AlarmState::default();
-            let f = forces(3.0, 40, &[0.0, -14.5, 14.5, 0.0, 0.0]);
-            let mut pair = 0.0;
-            for (i, &fx) in f.iter().enumerate() {
-                let status = if flagged && i == 161 {
-                    Status::TRANSIENT
-                } else {
-                    Status::AMBIGUOUS
-                };
-                if i == 162 {
-                    let r = |k: usize| f[k] - f[k - 4];
-                    pair = (r(162) - r(161)) / libm::sqrtf(0.5 * st.e_var);
-                }
-                a.process(&mut st, &record(i, fx, status));
-            }
+            let flagged = flagged.then_some(161);
+            // The pair against E's spread before the gain (record 162) widened it.
+            let f = forces(3.0, 40, &after);
+            let r = |k: usize| f[k] - f[k - 4];
+            let (before, _) = armed_after(&after[..2], flagged);
+            let pair = (r(162) - r(161)) / libm::sqrtf(0.5 * before.e_var);
+            let (st, _) = armed_after(&after, flagged);
             (st.trip_floor_n(), st.trip_share(), pair)
         };
         let (_, share, pair) = arming(false);
@@ -2250,22 +2224,11 @@ mod tests {
     /// tooth's loss a revolution ago is the exit's).
     #[test]
     fn the_loss_the_next_tooth_took_counts_toward_the_plain_floor() {
-        let est = EstimatorConfig::default();
-        let a = AlarmConfig::default().build(&est).unwrap();
         // Tooth 1 (the next period's) loses `loss` in the revolution before the last;
         // `transient`: a record of the last revolution flagged.
         let arming = |loss: f32, transient: bool| {
-            let f = forces(3.0, 40, &[0.0, -loss, 0.0, 0.0, 0.0]);
-            let mut st = AlarmState::default();
-            for (i, &fx) in f.iter().enumerate() {
-                let status = if transient && i == f.len() - 2 {
-                    Status::TRANSIENT
-                } else {
-                    Status::AMBIGUOUS
-                };
-                let out = a.process(&mut st, &record(i, fx, status));
-                assert!(out.event.is_none(), "{loss}: record {i}");
-            }
+            let (st, events) = armed_after(&[0.0, -loss, 0.0, 0.0, 0.0], transient.then_some(163));
+            assert_eq!(events, 0, "{loss}");
             let sigma_r = libm::sqrtf(0.5 * st.e_var);
             (st.trip_floor_n(), st.trip_share(), sigma_r)
         };

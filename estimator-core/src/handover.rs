@@ -223,10 +223,15 @@ impl Handover {
     #[cold]
     #[inline(never)]
     fn trip_inside_bin(&self, st: &mut HandoverState) {
+        Self::tripped(st, -(st.deficit + st.run / st.bin_len));
+        st.run_limit = f32::NEG_INFINITY;
+    }
+
+    /// The armed limit passed with `lost`.
+    fn tripped(st: &mut HandoverState, lost: f32) {
         st.tripped = true;
         st.hit = st.trip;
-        st.lost = -(st.deficit + st.run / st.bin_len);
-        st.run_limit = f32::NEG_INFINITY;
+        st.lost = lost;
     }
 
     /// The open bin's limit for `run` from the armed trip, the folded bins' change and a
@@ -270,9 +275,7 @@ impl Handover {
         }
         st.deficit = d;
         if d < -st.trip {
-            st.tripped = true;
-            st.hit = st.trip;
-            st.lost = -d;
+            Self::tripped(st, -d);
         }
         Self::open_bin(st, bin);
     }
@@ -384,9 +387,7 @@ impl Handover {
         st.deficit = 0.0;
         // (Not `>=`: a NaN loss does not trip.)
         if !st.tripped && whole_lost > st.trip {
-            st.tripped = true;
-            st.lost = whole_lost;
-            st.hit = st.trip;
+            Self::tripped(st, whole_lost);
         }
         st.trip = f32::INFINITY;
         Self::open_bin(st, 0);
