@@ -59,7 +59,14 @@
 //!     sigma_R` together (the teeth armed with their own a revolution earlier: after the
 //!     history was forgotten, from the `N + 1`-th record on; an exit's teeth all lose, the
 //!     newest most; a broken flute's loss is followed by the next flute's gain), with the
-//!     resultant watched. An exit through a face whose first tooth's loss hid in the noise
+//!     resultant watched. After a moved window (out of a steady cut) the records have no
+//!     tooth a revolution earlier until the `N + 1`-th, but the hand-over stage re-cut its
+//!     profiles at the new boundary: from the first record after the move the trip is
+//!     armed at the plain share and 6 sigma_R, transient records too (the move's odd
+//!     period upsets the monitor's revolution compare), and that stage checks the same
+//!     walk on the periods since the move against their re-cut profiles
+//!     ([`AlarmState::trip_quiet_n`]); armed on the share alone, exits begun at the move
+//!     tripped. An exit through a face whose first tooth's loss hid in the noise
 //!     can take more than half from its second: the arc's far reach, the thickest chip,
 //!     leaves first, as the square root of the travel where the arc holds `pi/2`
 //!     ([`crate::geometry::exit_loss_share`]). The share is raised to that exit's loss at
@@ -510,10 +517,17 @@ pub struct AlarmState {
     /// Records left in which a steady cut resumes after the tooth history was forgotten
     /// (see [`Alarms::flute_missing`]); 0: not resuming.
     resumed: u8,
+    /// The window moved out of a steady cut and the hand-over stage re-cut its profiles
+    /// (the drop trip has a reference for every tooth's first period after it).
+    realigned: bool,
     /// The drop trip's noise floor for the next period [N] (`INFINITY`: not armed).
     trip_floor_n: f32,
     /// ... and its share of the tooth's force ([`TRIP_SHARE`] or more).
     trip_share: f32,
+    /// In the first revolution after a moved window, the loss per tooth since the move
+    /// that the hand-over stage allows before it arms the trip [N] (`INFINITY`: none to
+    /// check).
+    trip_quiet_n: f32,
     /// The exit's loss share behind it, and the feed per tooth [mm] and `R_r` it is for
     /// (`R_r` -1: none valid).
     exit_share: f32,
@@ -574,7 +588,9 @@ impl Default for AlarmState {
             unflagged: 0,
             prev_dead: false,
             resumed: 0,
+            realigned: false,
             trip_floor_n: f32::INFINITY,
+            trip_quiet_n: f32::INFINITY,
             trip_share: TRIP_SHARE,
             exit_share: 1.0,
             exit_key: (f32::NAN, f32::NAN),
@@ -714,6 +730,12 @@ impl AlarmState {
     /// The drop trip's share (see [`TRIP_SHARE`]).
     pub fn trip_share(&self) -> f32 {
         self.trip_share
+    }
+
+    /// Where the drop trip is armed in the first revolution after a moved window: the
+    /// loss per tooth since the move it allows [N] (`INFINITY` elsewhere).
+    pub fn trip_quiet_n(&self) -> f32 {
+        self.trip_quiet_n
     }
 
     /// The output to the CNC is latched: an alarm, or a drop trip whose cause the next
@@ -921,9 +943,13 @@ impl Alarms {
             } else {
                 0
             };
+            st.realigned = st.resumed > 0
+                && rec.status.contains(Status::WINDOW_MOVED)
+                && !rec.status.contains(Status::NO_SYNC);
         }
         if rec.status.contains(Status::NOT_CUTTING) {
             st.resumed = 0;
+            st.realigned = false;
         }
         if rec.status.is_valid() {
             st.held = Some((rec.rr, rec.ra));
@@ -1169,15 +1195,20 @@ impl Alarms {
         // it (`handed_over`), or with no run of the newest teeth losing force (an exit's
         // teeth all lose).
         st.trip_floor_n = f32::INFINITY;
+        st.trip_quiet_n = f32::INFINITY;
         let noise = self.decision_var(st, rev_mean.unwrap_or(f));
         // Armed from the first tooth that has its own a revolution earlier (not only with
-        // two revolutions armed): a flute broken just after the history was forgotten (the
-        // window moved) would otherwise be caught only past a revolution.
+        // two revolutions armed): a flute broken just after the history was forgotten (a
+        // lost pulse) would otherwise be caught only past a revolution. In the revolution
+        // after a moved window, from the first record: the hand-over stage's re-cut
+        // profiles are the reference, and it checks the periods since for a loss.
+        let fresh = st.realigned && (!st.armed).trailing_zeros() as usize <= n;
+        st.realigned = fresh;
         if self.cfg.breakage.enabled
             && deciding
             && st.latched.is_none()
             && st.trip.is_none()
-            && !rec.status.contains(Status::TRANSIENT)
+            && (fresh || !rec.status.contains(Status::TRANSIENT))
             && self.cfg.breakage.signal == BreakageSignal::Resultant
         {
             if let Some(var) = noise {
@@ -1206,7 +1237,14 @@ impl Alarms {
                         EVIDENCE_MIN_SIGMAS * sigma_r,
                     );
                     Some((EVIDENCE_SHARE, floor))
-                } else if self.no_recent_loss(st, TRIP_QUIET_SIGMAS * TRIP_QUIET_SIGMAS * var_r) {
+                } else if fresh
+                    || self.no_recent_loss(st, TRIP_QUIET_SIGMAS * TRIP_QUIET_SIGMAS * var_r)
+                {
+                    // (After a move the hand-over stage walks the periods since; and no
+                    // credit: two revolutions are not armed.)
+                    if fresh {
+                        st.trip_quiet_n = TRIP_QUIET_SIGMAS * sigma_r;
+                    }
                     self.trip_share(st, rec.tc_mm, sigma_r).map(|share| {
                         // The next tooth's loss a revolution ago, out of a steady cut: its
                         // period then is the reference now.
@@ -2391,31 +2429,47 @@ mod tests {
         assert!(trip_floor_after(&[0.0, -15.0, 15.0, 0.0]).is_finite());
     }
 
-    /// After the history is forgotten (the window moved), the trip is armed again from the
+    /// After the history is forgotten at a lost pulse, the trip is armed again from the
     /// first tooth armed with its own a revolution earlier, `N + 1` records on (not after
-    /// two revolutions: a flute broken there would be caught past a revolution).
+    /// two revolutions: a flute broken there would be caught past a revolution). At a
+    /// moved window out of a steady cut, from the first record after it (the hand-over
+    /// stage re-cut its profiles), asking that stage to check the periods since for a loss
+    /// (`trip_quiet_n`, `TRIP_QUIET_SIGMAS sigma_R`), until the records have their own.
     #[test]
-    fn the_drop_trip_is_armed_again_one_tooth_past_a_revolution_after_a_forget() {
+    fn the_drop_trip_is_armed_again_after_a_forget() {
         let est = EstimatorConfig::default();
         let a = AlarmConfig::default().build(&est).unwrap();
         let f = forces(3.0, 42, &[]);
-        let moved = 40 * 4;
-        let mut st = AlarmState::default();
-        let mut floors = Vec::new();
-        for (i, &fx) in f.iter().enumerate() {
-            let status = if i == moved {
-                Status(Status::AMBIGUOUS.0 | Status::WINDOW_MOVED.0)
-            } else {
-                Status::AMBIGUOUS
-            };
-            a.process(&mut st, &record(i, fx, status));
-            floors.push(st.trip_floor_n());
+        let at = 40 * 4;
+        let armed = |forget: Status| {
+            let mut st = AlarmState::default();
+            let mut out = Vec::new();
+            for (i, &fx) in f.iter().enumerate() {
+                let status = if i == at {
+                    Status(Status::AMBIGUOUS.0 | forget.0)
+                } else {
+                    Status::AMBIGUOUS
+                };
+                a.process(&mut st, &record(i, fx, status));
+                out.push((st.trip_floor_n(), st.trip_quiet_n()));
+            }
+            out
+        };
+        let lost = armed(Status(Status::NO_SYNC.0 | Status::PERIOD_INVALID.0));
+        assert!(lost[at - 1].0.is_finite());
+        for (k, (floor, _)) in lost.iter().enumerate().skip(at).take(5) {
+            assert!(floor.is_infinite(), "{} records after: {floor}", k - at);
         }
-        assert!(floors[moved - 1].is_finite());
-        for (k, floor) in floors.iter().enumerate().skip(moved).take(5) {
-            assert!(floor.is_infinite(), "{} records after: {floor}", k - moved);
+        assert!(lost[at + 5].0.is_finite() && lost[at + 5].1.is_infinite());
+        let moved = armed(Status(Status::WINDOW_MOVED.0 | Status::PERIOD_INVALID.0));
+        assert!(moved[at].0.is_infinite());
+        for (k, &(floor, quiet)) in moved.iter().enumerate().skip(at + 1).take(4) {
+            assert!(floor.is_finite(), "{} records after", k - at);
+            // (The floor there is FIRST_TOOTH_SIGMAS sigma_R.)
+            let want = TRIP_QUIET_SIGMAS / FIRST_TOOTH_SIGMAS * floor;
+            assert!((quiet - want).abs() < 1e-3 * want, "{quiet} against {want}");
         }
-        assert!(floors[moved + 5].is_finite());
+        assert!(moved[at + 5].0.is_finite() && moved[at + 5].1.is_infinite());
     }
 
     /// A trip latches the output at once; the records after it name the cause: the next

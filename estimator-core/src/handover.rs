@@ -50,8 +50,10 @@
 //! at once, the open period's first. Per sample a multiply-add and a compare; per bin a
 //! division and an add.
 //!
-//! Only between usable periods in tooth order (no lost pulse, moved window, feed change,
-//! bad data or air: any of them forgets every tooth's profile), only after `N + 1` steady
+//! Only between usable periods in tooth order (no lost pulse, feed change, bad data or
+//! air: any of them forgets every tooth's profile; a moved window re-cuts them at the new
+//! boundary, [`Handover::realign`], so that the drop trip is not blind for the revolution
+//! after the move), only after `N + 1` steady
 //! periods in a row (no transient: entries and exits change every tooth), and after
 //! [`WARM_TEETH`] steady periods of noise figures. Motor input only (the spindle current is
 //! the tangential force), tools of up to [`MAX_TEETH`] flutes (0.5 KiB of state less than 16).
@@ -86,6 +88,8 @@ pub struct Handover {
     /// exit's share of a tooth that the trip's share allows for; inside the period the
     /// last bin left out is the margin (seed 2, normal case 12 at the pulse).
     pub whole_at_close: bool,
+    /// A moved boundary re-cuts each tooth's bins ([`Handover::realign`]).
+    pub realigns: bool,
 }
 
 /// Running state: about 0.8 KiB.
@@ -132,6 +136,20 @@ pub struct HandoverState {
     run_limit: f32,
     /// The tangential force of one unit of the spindle signal, from the last period.
     per_unit_n: f32,
+    /// Since the profiles were re-cut at a moved boundary ([`Handover::realign`]; `recut`
+    /// until a forget): each usable period's change of its tooth average from the re-cut
+    /// profile, in order, `moved_n` of them (past `MAX_TEETH`, no more are kept).
+    recut: bool,
+    /// Bit `i`: `last[i]` is a re-cut profile, not a period measured; `against_recut`: the
+    /// closed period was compared with one (its change is not learned into the noise
+    /// figures: a re-cut profile is only as good as a flat profile within each bin).
+    recut_rows: u8,
+    against_recut: bool,
+    /// The closed tooth's last bin mean a revolution earlier (a moved boundary's odd
+    /// period gives its last bin the excess: angles that bin never held).
+    kept: f32,
+    moved: [f32; MAX_TEETH],
+    moved_n: u8,
 }
 
 impl Default for HandoverState {
@@ -162,6 +180,12 @@ impl Default for HandoverState {
             cur_l: 0.0,
             run_limit: f32::NEG_INFINITY,
             per_unit_n: 0.0,
+            recut: false,
+            recut_rows: 0,
+            against_recut: false,
+            kept: 0.0,
+            moved: [0.0; MAX_TEETH],
+            moved_n: 0,
         }
     }
 }
@@ -171,10 +195,13 @@ impl Default for HandoverState {
 pub enum Period {
     /// Lost pulse, moved window, feed change, bad data: tooth profiles are forgotten.
     Unusable,
-    /// No cut, or the window moved: the noise figures are forgotten too (the next cut may
-    /// be another; under a new alignment the steep edges of the cut, where encoder jitter
-    /// makes most of the noise, fall in other bins).
+    /// No cut, or the window moved where its bins could not be re-cut: the noise figures
+    /// are forgotten too (the next cut may be another; under a new alignment the steep
+    /// edges of the cut, where encoder jitter makes most of the noise, fall in other bins).
     Restart,
+    /// The window moved and [`Handover::realign`] re-cut every tooth's bins: the profiles
+    /// are kept, the noise figures forgotten (as for `Restart`).
+    Moved,
     /// A cut.
     Cut {
         /// Not transient (entries and exits change every tooth).
@@ -184,12 +211,15 @@ pub enum Period {
 
 impl Handover {
     /// The stage for a tool of `flutes`; `motor`: the spindle channel is a current or load;
-    /// `placed`: the window's boundary is placed where least is cut.
-    pub fn new(flutes: u8, motor: bool, placed: bool) -> Self {
+    /// `placed`: the window's boundary is placed where least is cut; `per_tooth`: a sync
+    /// pulse per tooth (with one a revolution, the teeth of the revolution after a move are
+    /// split from a revolution that held the move: no bins can be re-cut for them).
+    pub fn new(flutes: u8, motor: bool, placed: bool, per_tooth: bool) -> Self {
         Handover {
             on: motor && (2..=MAX_TEETH as u8).contains(&flutes),
             teeth: flutes,
             whole_at_close: placed,
+            realigns: placed && per_tooth,
         }
     }
 
@@ -300,6 +330,11 @@ impl Handover {
     /// force of the period just closed (with the signal's mean, it gives the signal's
     /// level with nothing cut). Disarmed by `floor_n = INFINITY`, and where the open
     /// tooth's last period is not usable.
+    ///
+    /// `quiet_n` finite: armed only on profiles re-cut at a moved boundary, where no run of
+    /// the newest periods since (at least one) lost from them: every sum of the newest `j`
+    /// changes above `-sqrt(j) quiet_n` (the alarm stage's test on its records, which
+    /// compare nothing across the move: an exit's teeth all lose, the newest most).
     #[inline(never)]
     pub fn arm_trip(
         &self,
@@ -308,10 +343,14 @@ impl Handover {
         ft_n: f32,
         share: f32,
         floor_n: f32,
+        quiet_n: f32,
     ) {
         st.trip = f32::INFINITY;
         st.run_limit = f32::NEG_INFINITY;
         if !self.on || st.per_unit_n <= 0.0 || st.filled & (1u8.wrapping_shl(st.open as u32)) == 0 {
+            return;
+        }
+        if quiet_n < f32::INFINITY && !Self::quiet_since_move(st, quiet_n / st.per_unit_n) {
             return;
         }
         let sum = |t: u8| st.last_sum.get(t as usize).copied().unwrap_or(f32::NAN);
@@ -323,6 +362,33 @@ impl Handover {
             st.trip = limit;
         }
         Self::bin_limit(st);
+    }
+
+    /// A period's change since the profiles were re-cut, kept for `quiet_since_move`.
+    #[cold]
+    #[inline(never)]
+    fn moved_change(st: &mut HandoverState, change: f32) {
+        if let Some(m) = st.moved.get_mut(st.moved_n as usize) {
+            *m = change;
+            st.moved_n += 1;
+        }
+    }
+
+    /// Whether the periods since the profiles were re-cut (one at least) lost no more than
+    /// `quiet` (a tooth average's change, in the signal's units) in any run of the newest.
+    #[cold]
+    #[inline(never)]
+    fn quiet_since_move(st: &HandoverState, quiet: f32) -> bool {
+        let n = st.moved_n as usize;
+        let mut sum = 0.0f32;
+        for (j, &c) in st.moved.get(..n).unwrap_or(&[]).iter().rev().enumerate() {
+            sum += c;
+            #[allow(clippy::neg_cmp_op_on_partial_ord)]
+            if !(sum >= 0.0 || sum * sum <= (j + 1) as f32 * quiet * quiet) {
+                return false;
+            }
+        }
+        st.recut && n > 0
     }
 
     /// The drop trip passed in the open period: `(lost, limit)` as tangential forces of a
@@ -350,6 +416,7 @@ impl Handover {
         match st.last.get_mut(slot) {
             Some(last) => {
                 let before = st.last_sum.get(slot).copied().unwrap_or(f32::NAN);
+                let kept = last.last().copied().unwrap_or(0.0);
                 // A period shorter than the one its bins were sized by leaves its last
                 // bin (at a jittered pulse, most periods) without a sample: it holds the
                 // mean of the bin before. Bin 0 always has the period's first sample.
@@ -371,7 +438,10 @@ impl Handover {
                 if let Some(t) = st.last_sum.get_mut(slot) {
                     *t = total;
                 }
+                st.kept = kept;
                 st.change_ok = st.filled & (1 << slot) != 0;
+                st.against_recut = st.recut_rows & (1 << slot) != 0;
+                st.recut_rows &= !(1 << slot);
                 // (Only a period that reached its last bin: one cut short by a glitch
                 // holds its last complete bin's mean in the bins it never reached.)
                 if self.whole_at_close && st.open == tooth && st.fold as usize == BINS - 1 {
@@ -390,6 +460,78 @@ impl Handover {
             Self::tripped(st, whole_lost);
         }
         st.trip = f32::INFINITY;
+        Self::open_bin(st, 0);
+    }
+
+    /// The window's boundary moved ([`crate::window`]): the period of tooth `closed` that
+    /// just closed was the odd one, `odd_len` samples against periods of `len`, and the
+    /// open one is `next`'s. Each tooth's bins of its last period are re-cut at the new
+    /// boundary, so that the first period of every tooth under it has its reference a
+    /// revolution earlier: forgotten instead, a flute broken within a revolution of the
+    /// move would be certain only after one more (the drop trip has nothing to lose
+    /// against).
+    ///
+    /// The odd period began at a boundary of the old alignment and ended at the new one,
+    /// `q = odd_len / len` periods later: the new boundaries lie `frac(q)` of a period into
+    /// the old ones. The open period, `next`, spans that share of the old period
+    /// `closed + floor(q)` onwards into the one after it; each later one, the next old
+    /// pair. A new bin `b` spans old positions `b + x .. b + x + 1` (in bins, `x =
+    /// frac(q) BINS`) of that pair's bins laid end to end: the two old bins it overlaps,
+    /// weighted by the overlap (the profile taken flat within a bin). The odd period's own
+    /// last bin took its excess: that bin of a revolution earlier stands in. Only where the odd
+    /// period is longer than one period and shorter than two (a move alone, no lost pulse)
+    /// and both old periods of a tooth are usable; elsewhere every profile is forgotten.
+    #[cold]
+    #[inline(never)]
+    pub fn realign(&self, st: &mut HandoverState, closed: u8, odd_len: u32, len: u32, next: u8) {
+        let n = self.teeth.max(1) as usize;
+        st.open = next;
+        let q = odd_len as f32 / len.max(1) as f32;
+        // (`as` saturates: a NaN or negative `q` is 0, no move.)
+        let whole = q as usize;
+        let x = (q - whole as f32) * BINS as f32;
+        let i0 = x as usize;
+        let f = x - i0 as f32;
+        let advance = (next as usize + n - closed as usize % n) % n;
+        let was = st.filled;
+        st.filled = 0;
+        st.recut = false;
+        st.recut_rows = 0;
+        if !(self.on && self.realigns && whole == 1 && advance > 0 && i0 < BINS) {
+            return;
+        }
+        st.recut = true;
+        st.moved_n = 0;
+        let mut old = st.last;
+        if let Some(l) = old.get_mut(closed as usize).and_then(|r| r.last_mut()) {
+            *l = st.kept;
+        }
+        let usable = |t: usize| was & 1u8.wrapping_shl(t as u32) != 0;
+        for t in 0..n {
+            let u = (t + n + whole - advance) % n;
+            let v = (u + 1) % n;
+            let (Some(a), Some(b), Some(row)) = (old.get(u), old.get(v), st.last.get_mut(t)) else {
+                continue;
+            };
+            if !(usable(u) && usable(v)) {
+                continue;
+            }
+            let at = |k: usize| {
+                if k < BINS { a.get(k) } else { b.get(k - BINS) }
+                    .copied()
+                    .unwrap_or(0.0)
+            };
+            let mut total = 0.0f32;
+            for (k, r) in row.iter_mut().enumerate() {
+                *r = (1.0 - f) * at(k + i0) + f * at(k + i0 + 1);
+                total += *r;
+            }
+            if let Some(s) = st.last_sum.get_mut(t) {
+                *s = total;
+            }
+            st.filled |= 1 << t;
+        }
+        st.recut_rows = st.filled;
         Self::open_bin(st, 0);
     }
 
@@ -415,9 +557,19 @@ impl Handover {
         st.last_tooth = tooth;
         let steady = match period {
             Period::Cut { steady } if in_order => steady,
+            Period::Moved => {
+                // The profiles re-cut (`realign`); the open period follows this one.
+                st.last_tooth = ((st.open as usize + n - 1) % n.max(1)) as u8;
+                st.streak = 0;
+                st.prev_ok = false;
+                st.var_count = 0;
+                return (0.0, 0.0);
+            }
             _ => {
                 // Tooth alignment or the cut itself is lost: nothing compares across it.
                 st.filled = 0;
+                st.recut = false;
+                st.recut_rows = 0;
                 st.streak = 0;
                 st.prev_ok = false;
                 if period == Period::Restart {
@@ -431,7 +583,7 @@ impl Handover {
         // Decided on the periods before this one all steady: `N + 1` of them (this one's
         // and the last one's revolution-old partners, and the last one).
         let decide = ok && st.prev_ok && st.streak as usize > n && st.var_count >= WARM_TEETH;
-        let learn = ok && steady;
+        let learn = ok && steady && !st.against_recut;
         // A plain mean over the first WARM_TEETH, exponential after, and clipped after.
         if learn {
             st.var_count = st.var_count.saturating_add(1);
@@ -479,6 +631,9 @@ impl Handover {
             *p = sum;
         }
         let ok = ok && sum.is_finite();
+        if st.recut && ok {
+            Self::moved_change(st, sum);
+        }
         let out = if m_best > 0.0 {
             let z = if v_best > 0.0 {
                 m_best / libm::sqrtf(v_best)
@@ -544,7 +699,7 @@ mod tests {
         unusable: &[usize],
         trip: Option<f32>,
     ) -> (Vec<(f32, f32)>, Option<(usize, usize, f32)>) {
-        feed_with(Handover::new(N, true, true), periods, unusable, trip)
+        feed_with(Handover::new(N, true, true, true), periods, unusable, trip)
     }
 
     /// [`feed`] through `h`.
@@ -577,7 +732,7 @@ mod tests {
                     if let Some(share) = trip {
                         let prev = &periods[k - 1];
                         let ft = prev.iter().sum::<f32>() / prev.len() as f32;
-                        h.arm_trip(&mut st, t, ft, share, 0.0);
+                        h.arm_trip(&mut st, t, ft, share, 0.0, f32::INFINITY);
                     }
                 }
                 if let Some((lost, _)) = h.take_trip(&mut st) {
@@ -743,7 +898,7 @@ mod tests {
         );
         assert_eq!(feed(&p, &[], Some(over)).1, None);
         // With the window at the pulse, only inside the period.
-        let at_pulse = Handover::new(N, true, false);
+        let at_pulse = Handover::new(N, true, false, true);
         assert_eq!(feed_with(at_pulse, &p, &[], Some(under)).1, None);
         // A period cut short by a glitch in the gap, before its last two bins (the monitor
         // flags it and the one after, binned by its length, unusable): the bins it never
@@ -790,10 +945,153 @@ mod tests {
         assert!(run(&p, &[])[k + 1].0 > 5.0);
     }
 
+    /// Flute passes every `LEN` samples, pass `k`'s cut (`flute`, flute 0 at 130 %)
+    /// beginning `start` samples after pulse `k`, at `amount(k, i)` times its chip at
+    /// sample `i` of the cut.
+    fn stream(passes: usize, start: usize, amount: impl Fn(usize, usize) -> f32) -> Vec<f32> {
+        let mut x = std::vec![0.0f32; passes * LEN + start + CUT];
+        for k in 0..passes {
+            let gain = if k % N as usize == 0 { 1.3 } else { 1.0 };
+            for i in 0..CUT {
+                x[k * LEN + start + i] += gain * amount(k, i) * flute(i);
+            }
+        }
+        x
+    }
+
+    /// Feeds `x` the way the monitor does, boundaries at the pulses up to pulse `moved`,
+    /// `delay` samples after them from the next pulse on (the window's move; the period
+    /// that holds it is odd, two teeth on past one and a half periods). The drop trip is
+    /// armed after each period at half the tooth, no floor, `quiet` from the move on (see
+    /// `arm_trip`). The first trip, (period, sample in it); each period's change from its
+    /// profile since the move.
+    fn feed_moved(
+        h: Handover,
+        x: &[f32],
+        moved: usize,
+        delay: usize,
+        quiet: f32,
+    ) -> (Option<(usize, usize)>, Vec<f32>) {
+        let n = N as usize;
+        let mut bounds: Vec<usize> = (0..=moved).map(|k| k * LEN).collect();
+        bounds.extend((moved + 1..x.len() / LEN).map(|k| k * LEN + delay));
+        let mut st = HandoverState::default();
+        let mut step = 0u32;
+        // The tooth of the open period, and of the last one closed with its length.
+        let mut tooth = 0usize;
+        let mut closed: Option<(usize, usize)> = None;
+        for (p, w) in bounds.windows(2).enumerate() {
+            for (pos, &v) in x[w[0]..w[1]].iter().enumerate() {
+                match closed.take().filter(|_| pos == 0) {
+                    Some((t, len)) => {
+                        h.sample(&mut st, Some(t as u8), 0, v);
+                        let odd = p - 1 == moved;
+                        let period = if odd {
+                            h.period_len(&mut st, LEN as u32);
+                            h.realign(&mut st, t as u8, len as u32, LEN as u32, tooth as u8);
+                            Period::Moved
+                        } else {
+                            h.period_len(&mut st, len as u32);
+                            Period::Cut { steady: true }
+                        };
+                        step = ((BINS as u32) << 16) / if odd { LEN } else { len } as u32;
+                        h.measure(&mut st, t as u8, period, 1.0);
+                        let ft = x[w[0] - len..w[0]].iter().sum::<f32>() / len as f32;
+                        let q = if p > moved { quiet } else { f32::INFINITY };
+                        h.arm_trip(&mut st, t as u8, ft, 0.5, 0.0, q);
+                    }
+                    None => {
+                        let bin = (((pos as u64 * step as u64) >> 16) as usize).min(BINS - 1);
+                        h.sample(&mut st, None, bin, v);
+                    }
+                }
+                if h.take_trip(&mut st).is_some() {
+                    return (Some((p, pos)), st.moved[..st.moved_n as usize].to_vec());
+                }
+            }
+            let len = w[1] - w[0];
+            closed = Some((tooth, len));
+            tooth = (tooth + if 2 * len > 3 * LEN { 2 } else { 1 }) % n;
+        }
+        (None, st.moved[..st.moved_n as usize].to_vec())
+    }
+
+    /// The window moves from the pulse into the gap between cuts (flute cuts of 40 of 48
+    /// samples straddling the pulse): the period that holds the move is a third longer
+    /// (the tooth index goes on by one), or two thirds (by two). Each tooth's bins are
+    /// re-cut at the new boundary: the periods after the move, noise-free with 30 %
+    /// runout, differ from their re-cut profiles by under 1 % of a tooth (the re-cut takes
+    /// bins of equal length; a bin of whole samples is a sample longer or shorter), and
+    /// nothing trips. A flute broken in the period of the move (its chip handed to the
+    /// next flute) trips in its first period after it, when half its cut is gone
+    /// (computed here from its signal); with the profiles forgotten instead, it does not
+    /// trip at all (its empty period is the reference of the next).
+    #[test]
+    fn a_moved_window_recuts_the_profiles() {
+        let tooth: f32 = (0..CUT).map(flute).sum::<f32>() / LEN as f32;
+        let total: f32 = (0..CUT).map(flute).sum();
+        let half = (0..CUT)
+            .position(|i| (0..=i).map(flute).sum::<f32>() >= 0.5 * total)
+            .unwrap();
+        let moved = 60;
+        let n = N as usize;
+        // Pass 60, whose cut the period of the move holds, breaks at sample 30 of it: that
+        // flute cuts nothing after, and the next one a double chip.
+        let lost = |k: usize, i: usize| k > 60 || k == 60 && i >= 30;
+        let chip = |k: usize, i: usize| match k % n {
+            0 if lost(k, i) => 0.0,
+            1 if lost(k - 1, i) => 2.0,
+            _ => 1.0,
+        };
+        let broken = 60 + n;
+        // (cut start after the pulse, new boundary after the pulse): both in the gap.
+        for (start, delay) in [(20, 16), (34, 30)] {
+            let h = Handover::new(N, true, true, true);
+            let steady = stream(100, start, |_, _| 1.0);
+            let (trip, changes) = feed_moved(h, &steady, moved, delay, 1.0);
+            assert_eq!(trip, None, "start {start}");
+            assert_eq!(changes.len(), MAX_TEETH, "start {start}");
+            let worst = changes.iter().fold(0.0f32, |m, c| m.max(c.abs()));
+            assert!(worst < 0.01 * tooth, "start {start}: {changes:?}");
+            let x = stream(100, start, chip);
+            let (period, pos) = feed_moved(h, &x, moved, delay, 1.0).0.expect("tripped");
+            assert_eq!(period, broken, "start {start}");
+            let want = start - delay + half;
+            assert!(
+                pos + 3 >= want && pos <= want + 7,
+                "start {start}: at {pos}, half the cut at {want}"
+            );
+            let forgot = Handover::new(N, true, true, false);
+            assert_eq!(feed_moved(forgot, &x, moved, delay, f32::INFINITY).0, None);
+        }
+    }
+
+    /// After a move the trip is armed only where no run of the periods since lost more
+    /// than `quiet` from their re-cut profiles: from the move on every pass cuts only the
+    /// first quarter of its cut (an exit's teeth all lose). Without the check it trips,
+    /// with it it does not.
+    #[test]
+    fn after_a_move_the_trip_waits_for_periods_that_did_not_lose() {
+        let h = Handover::new(N, true, true, true);
+        let x = stream(
+            100,
+            20,
+            |k, i| if k < 61 || i < CUT / 4 { 1.0 } else { 0.0 },
+        );
+        assert!(feed_moved(h, &x, 60, 16, f32::INFINITY).0.is_some());
+        let (trip, changes) = feed_moved(h, &x, 60, 16, 1.0);
+        assert_eq!(trip, None);
+        // The first revolution loses; after it, the periods that lost are the reference.
+        assert!(
+            changes[..N as usize].iter().all(|&c| c < -1.0),
+            "{changes:?}"
+        );
+    }
+
     #[test]
     fn off_beyond_max_teeth_and_for_a_dynamometer() {
-        assert!(!Handover::new(MAX_TEETH as u8 + 1, true, true).on);
-        assert!(!Handover::new(4, false, true).on);
-        assert!(Handover::new(MAX_TEETH as u8, true, true).on);
+        assert!(!Handover::new(MAX_TEETH as u8 + 1, true, true, true).on);
+        assert!(!Handover::new(4, false, true, true).on);
+        assert!(Handover::new(MAX_TEETH as u8, true, true, true).on);
     }
 }

@@ -201,6 +201,7 @@ impl MonitorConfig {
             n as u8,
             matches!(self.input, Input::Motor { .. }),
             self.align_window,
+            self.sync == SyncMode::PerTooth,
         );
         let boundary = Window {
             align: self.align_window,
@@ -560,14 +561,25 @@ impl Monitor {
         if let Some(p) = p.as_mut() {
             self.handover.period_len(&mut st.hand, p.samples);
             if self.boundary.take_moved(&mut st.win) {
-                p.status |= Status::WINDOW_MOVED;
-                // The next period is judged against the length before the move, and its
-                // bins are that length's, not the odd period's.
-                self.timing.odd_period(&mut st.tooth);
-                self.boundary.rebin(&mut st.win, st.tooth.reference_len());
+                self.moved(st, p);
             }
         }
         p
+    }
+
+    /// The period `p` closed is the first under a moved window boundary (once a cut).
+    #[cold]
+    #[inline(never)]
+    fn moved(&self, st: &mut MonitorState, p: &mut Period) {
+        p.status |= Status::WINDOW_MOVED;
+        // The next period is judged against the length before the move, and its bins are
+        // that length's, not the odd period's.
+        self.timing.odd_period(&mut st.tooth);
+        let len = st.tooth.reference_len();
+        self.boundary.rebin(&mut st.win, len);
+        self.handover.period_len(&mut st.hand, len);
+        self.handover
+            .realign(&mut st.hand, p.tooth, p.samples, len, st.tooth.open_tooth());
     }
 
     /// Feed force and second force [N] from a period's raw channel means (feed X, feed Y,
@@ -607,7 +619,17 @@ impl Monitor {
         per_unit_n: f32,
     ) -> (f32, f32) {
         let period = if status.intersects(Status(Status::NOT_CUTTING.0 | Status::WINDOW_MOVED.0)) {
-            handover::Period::Restart
+            // A moved window's odd period is flagged for its length: nothing else about
+            // it stops the re-cut profiles from being kept.
+            let moved = status.contains(Status::WINDOW_MOVED)
+                && !status.intersects(Status(
+                    NO_HANDOVER.0 & !Status::PERIOD_INVALID.0 | Status::NOT_CUTTING.0,
+                ));
+            if moved {
+                handover::Period::Moved
+            } else {
+                handover::Period::Restart
+            }
         } else if status.intersects(NO_HANDOVER) {
             handover::Period::Unusable
         } else {
@@ -634,9 +656,10 @@ impl Monitor {
         rec: &ToothRecord,
         share: f32,
         floor_n: f32,
+        quiet_n: f32,
     ) {
         self.handover
-            .arm_trip(&mut st.hand, rec.tooth, rec.f2_n, share, floor_n);
+            .arm_trip(&mut st.hand, rec.tooth, rec.f2_n, share, floor_n, quiet_n);
     }
 
     /// The drop trip passed in the open period at sample `s`: `(lost, limit)` [N]. Not

@@ -147,6 +147,7 @@ impl Pipeline {
             &st.last,
             st.alarms.trip_share(),
             st.alarms.trip_floor_n(),
+            st.alarms.trip_quiet_n(),
         );
         (rec, out)
     }

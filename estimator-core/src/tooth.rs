@@ -109,6 +109,12 @@ impl ToothState {
         self.last_len
     }
 
+    /// The open period's tooth index.
+    #[inline(always)]
+    pub(crate) fn open_tooth(&self) -> u8 {
+        self.tooth
+    }
+
     /// Index of the last sample fed (0-based; wraps only after 2^64 samples).
     pub fn last_sample(&self) -> u64 {
         self.sample.wrapping_sub(1)

@@ -34,9 +34,11 @@
 //! (past one and a half periods it counts as two teeth, as after a lost pulse) or, where
 //! the new boundary comes less than half a period after the last, a glitch merged into
 //! the next period; [`crate::tooth::Timing`] flags both. The period in which the boundary moved
-//! is flagged [`Status::WINDOW_MOVED`]: it mixes two alignments, and the detectors forget
-//! their tooth history there, as at a lost pulse. The period after it is judged against the
-//! length before the move, not against the odd one (`Timing::odd_period`).
+//! is flagged [`Status::WINDOW_MOVED`]: it mixes two alignments, and the rules on the tooth
+//! records forget their history there, as at a lost pulse; the hand-over stage re-cuts its
+//! per-tooth profiles at the new boundary ([`crate::handover::Handover::realign`]), so that
+//! the drop trip keeps a reference. The period after it is judged against the length before
+//! the move, not against the odd one (`Timing::odd_period`).
 
 use crate::status::Status;
 use crate::tooth::CHANNELS;

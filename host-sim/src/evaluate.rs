@@ -1190,6 +1190,82 @@ mod held_out_tests {
         all_within_a_revolution(&[(80, 30), (62, 118)]);
     }
 
+    /// Three 3-flute tools in down milling whose window moved in the revolution a flute
+    /// broke in: seed 46, case 3 (2 796 rpm), seed 72, case 102 (2 131 rpm), seed 74, case
+    /// 59 (1 815 rpm). The move forgot the tooth history, and the broken flute's first
+    /// period after it, nearly empty, had no reference: caught 1.07-1.42 revolutions on,
+    /// by the rules on the records, late in 15 of the 24 runs over their noise seeds. The
+    /// hand-over stage re-cuts its profiles at the new boundary now, and the trip is armed
+    /// from the first record after the move. (Of the three runs still late, two had the
+    /// move a revolution before the damage and the record before the broken flute's
+    /// period transient; one caught 1.00 revolutions on.)
+    #[test]
+    fn a_flute_broken_in_the_revolution_of_a_move_trips_within_it() {
+        let late = late_runs(&[(3, 46), (102, 72), (59, 74)]);
+        assert!(late <= 3, "{late} of 24 late");
+    }
+
+    /// Normal case `index` at draw seed `seed` whose exit through the far face begins
+    /// `teeth` tooth periods after the record that closed the window's move (at the
+    /// first feed, which the move always comes in: 8 revolutions into the cut): its first
+    /// alarm.
+    fn exit_at_the_move(index: usize, seed: u64, teeth: i32) -> Option<(f64, Cause)> {
+        let case = draw_case(Kind::Normal, index, seed).expect("a case");
+        let pipeline = case.machine.clone().build().expect("a machine");
+        let fs = f64::from(case.machine.monitor.sample_rate_hz);
+        let mut st = PipelineState::default();
+        let mut moved = None;
+        sim::simulate(&case.scenario, |row| {
+            if let Some((r, _)) = pipeline.process(&mut st, &row.to_sample()) {
+                if moved.is_none() && r.status.contains(estimator_core::Status::WINDOW_MOVED) {
+                    moved = Some(r.end_sample as f64 / fs);
+                }
+            }
+            Ok(())
+        })
+        .expect("the case runs");
+        let moved = moved.expect("the window moves");
+        let tooth_s = 60.0 / (case.rpm_at_damage * f64::from(case.scenario.tool.flutes));
+        let feed_mm_s = match case.scenario.segments[0].feed_mm_min {
+            Some(crate::sim::scenario::Profile::Constant(f)) => f / 60.0,
+            ref p => panic!("first segment's feed {p:?}"),
+        };
+        let mut case = case;
+        let work = &mut case.scenario.workpiece.as_mut().expect("faces").spans_mm[0];
+        // The entry face lies the arc's reach past the path at the end of the first air
+        // move; the exit begins where the arc's reach meets the far face.
+        let reach_mm = work[0] - feed_mm_s * case.scenario.segments[0].duration_s;
+        work[1] = feed_mm_s * (moved + f64::from(teeth) * tooth_s) + reach_mm;
+        run_case(&case).expect("the case runs").first_alarm
+    }
+
+    /// Exits through a face beginning from two tooth periods before a window's move to two
+    /// after its first revolution (5 cases at seed 1, 2-4 flutes): the first revolution
+    /// after the move, where the trip is armed on the hand-over stage's re-cut profiles
+    /// (the records have no tooth a revolution earlier), raises nothing. Armed there on
+    /// the exit's share alone, without the stage's check that no period since the move
+    /// lost, 14 of these 43 exits raised a breakage (those from two teeth before the move
+    /// to one after).
+    #[test]
+    fn an_exit_at_a_move_raises_nothing() {
+        let mut raised = Vec::new();
+        for index in [1, 13, 17, 30, 34] {
+            let flutes = i32::from(
+                draw_case(Kind::Normal, index, 1)
+                    .expect("a case")
+                    .scenario
+                    .tool
+                    .flutes,
+            );
+            for teeth in -2..=flutes + 2 {
+                if let Some(a) = exit_at_the_move(index, 1, teeth) {
+                    raised.push(format!("case {index}, {teeth} teeth after the move: {a:?}"));
+                }
+            }
+        }
+        assert!(raised.is_empty(), "{raised:#?}");
+    }
+
     /// Two 4-flute tools in down milling whose arcs are wider than a pitch (no boundary
     /// falls between cuts): seed 94, case 119 (3 116 rpm), a flute broken a sixth from the
     /// end of its window, its cut going on into the next: that window lost 150 N, the one
