@@ -367,6 +367,8 @@ struct Means {
     samples: u32,
     v: [f32; 2],
     moving: bool,
+    /// The period's tooth index.
+    tooth: u8,
 }
 
 /// One valid tooth in the filter window.
@@ -750,6 +752,7 @@ impl Monitor {
             samples: p.samples,
             v: [v0, v1],
             moving,
+            tooth: p.tooth,
         };
         let (status, e) = self.judge(st, p.status, &means, probe);
         let (handover_z, handover_n) = self.handover(st, p.tooth, status, per_unit_n);
@@ -831,6 +834,9 @@ impl Monitor {
         if !usable {
             status.set_if(status.is_valid(), Status::NON_FINITE);
             st.settle = self.settle_teeth();
+            if status == Status(Status::WINDOW_MOVED.0 | Status::PERIOD_INVALID.0) {
+                self.skip_moved(st, n, t.tooth);
+            }
             return (status, none);
         }
         // Air cut or stopped feed: nothing to estimate, and the cut that follows starts
@@ -1075,6 +1081,26 @@ impl Monitor {
         }
         st.head = (head + 1) & (MAX_WINDOW - 1);
         st.len = (st.len + 1).min(MAX_WINDOW);
+    }
+
+    /// The period that held a window's move (one or two teeth of the tooth index, a mix of
+    /// two alignments) is not stored: the teeth it spans are stored as they were a
+    /// revolution earlier. Left out, each revolution mean over it would hold one tooth twice
+    /// and miss one, off by the runout, and the transient test would flag the revolutions
+    /// after a move as a change of the cut. (A mean that holds teeth of both alignments is
+    /// still off by the runout's share of the boundary's shift, less.)
+    #[cold]
+    #[inline(never)]
+    fn skip_moved(&self, st: &mut MonitorState, n: usize, tooth: u8) {
+        if st.len < n || n == 0 {
+            return;
+        }
+        // (The teeth the tooth stage counted it as: up to the open period's.)
+        let teeth = (st.tooth.open_tooth() as usize + n - tooth as usize % n) % n;
+        for _ in 0..teeth {
+            let e = st.back(n - 1);
+            self.push(st, e, n);
+        }
     }
 
     /// Teeth a disturbance keeps the immersion flagged: the window, and at least the two

@@ -1196,13 +1196,16 @@ mod held_out_tests {
     /// period after it, nearly empty, had no reference: caught 1.07-1.42 revolutions on,
     /// by the rules on the records, late in 15 of the 24 runs over their noise seeds. The
     /// hand-over stage re-cuts its profiles at the new boundary now, and the trip is armed
-    /// from the first record after the move. (Of the three runs still late, two had the
-    /// move a revolution before the damage and the record before the broken flute's
-    /// period transient; one caught 1.00 revolutions on.)
+    /// from the first record after the move; and the monitor's revolution means hold each
+    /// tooth once across the move, so that the records after it are not flagged transient
+    /// (seed 46's case at its fifth noise seed: the move 0.4 revolutions before the damage,
+    /// the record before the broken flute's window flagged, caught 1.41 revolutions on).
+    /// Of the two runs still late, in one the broken flute's window is the first after the
+    /// move, which no record arms; the other is caught 1.005 revolutions on.
     #[test]
     fn a_flute_broken_in_the_revolution_of_a_move_trips_within_it() {
         let late = late_runs(&[(3, 46), (102, 72), (59, 74)]);
-        assert!(late <= 3, "{late} of 24 late");
+        assert!(late <= 2, "{late} of 24 late");
     }
 
     /// Normal case `index` at draw seed `seed` whose exit through the far face begins
