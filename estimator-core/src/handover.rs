@@ -136,18 +136,17 @@ pub struct HandoverState {
     run_limit: f32,
     /// The tangential force of one unit of the spindle signal, from the last period.
     per_unit_n: f32,
-    /// Since the profiles were re-cut at a moved boundary ([`Handover::realign`]; `recut`
-    /// until a forget): each usable period's change of its tooth average from the re-cut
-    /// profile, in order, `moved_n` of them (past `MAX_TEETH`, no more are kept).
-    recut: bool,
-    /// Bit `i`: `last[i]` is a re-cut profile, not a period measured; `against_recut`: the
-    /// closed period was compared with one (its change is not learned into the noise
-    /// figures: a re-cut profile is only as good as a flat profile within each bin).
+    /// Bit `i`: `last[i]` is a profile re-cut at a moved boundary ([`Handover::realign`]),
+    /// not a period measured; `against_recut`: the closed period was compared with one (its
+    /// change is not learned into the noise figures: a re-cut profile is only as good as a
+    /// flat profile within each bin).
     recut_rows: u8,
     against_recut: bool,
     /// The closed tooth's last bin mean a revolution earlier (a moved boundary's odd
     /// period gives its last bin the excess: angles that bin never held).
     kept: f32,
+    /// The changes of the usable periods compared with a re-cut profile since the last
+    /// move, in order, `moved_n` of them.
     moved: [f32; MAX_TEETH],
     moved_n: u8,
 }
@@ -180,7 +179,6 @@ impl Default for HandoverState {
             cur_l: 0.0,
             run_limit: f32::NEG_INFINITY,
             per_unit_n: 0.0,
-            recut: false,
             recut_rows: 0,
             against_recut: false,
             kept: 0.0,
@@ -364,7 +362,14 @@ impl Handover {
         Self::bin_limit(st);
     }
 
-    /// A period's change since the profiles were re-cut, kept for `quiet_since_move`.
+    /// Every tooth's profile forgotten (the changes since a move with them).
+    fn forget(st: &mut HandoverState) {
+        st.filled = 0;
+        st.recut_rows = 0;
+        st.moved_n = 0;
+    }
+
+    /// A period's change from its re-cut profile, kept for `quiet_since_move`.
     #[cold]
     #[inline(never)]
     fn moved_change(st: &mut HandoverState, change: f32) {
@@ -388,7 +393,7 @@ impl Handover {
                 return false;
             }
         }
-        st.recut && n > 0
+        n > 0
     }
 
     /// The drop trip passed in the open period: `(lost, limit)` as tangential forces of a
@@ -464,8 +469,8 @@ impl Handover {
     }
 
     /// The window's boundary moved ([`crate::window`]): the period of tooth `closed` that
-    /// just closed was the odd one, `odd_len` samples against periods of `len`, and the
-    /// open one is `next`'s. Each tooth's bins of its last period are re-cut at the new
+    /// just closed was the odd one, `odd_len` samples against periods of `len`, counted as
+    /// `advance` teeth (the open one is `closed + advance`'s). Each tooth's bins of its last period are re-cut at the new
     /// boundary, so that the first period of every tooth under it has its reference a
     /// revolution earlier: forgotten instead, a flute broken within a revolution of the
     /// move would be certain only after one more (the drop trip has nothing to lose
@@ -473,7 +478,7 @@ impl Handover {
     ///
     /// The odd period began at a boundary of the old alignment and ended at the new one,
     /// `q = odd_len / len` periods later: the new boundaries lie `frac(q)` of a period into
-    /// the old ones. The open period, `next`, spans that share of the old period
+    /// the old ones. The open period spans that share of the old period
     /// `closed + floor(q)` onwards into the one after it; each later one, the next old
     /// pair. A new bin `b` spans old positions `b + x .. b + x + 1` (in bins, `x =
     /// frac(q) BINS`) of that pair's bins laid end to end: the two old bins it overlaps,
@@ -483,25 +488,27 @@ impl Handover {
     /// and both old periods of a tooth are usable; elsewhere every profile is forgotten.
     #[cold]
     #[inline(never)]
-    pub fn realign(&self, st: &mut HandoverState, closed: u8, odd_len: u32, len: u32, next: u8) {
+    pub fn realign(
+        &self,
+        st: &mut HandoverState,
+        closed: u8,
+        advance: usize,
+        odd_len: u32,
+        len: u32,
+    ) {
         let n = self.teeth.max(1) as usize;
-        st.open = next;
+        st.open = ((closed as usize + advance) % n) as u8;
         let q = odd_len as f32 / len.max(1) as f32;
         // (`as` saturates: a NaN or negative `q` is 0, no move.)
         let whole = q as usize;
         let x = (q - whole as f32) * BINS as f32;
         let i0 = x as usize;
         let f = x - i0 as f32;
-        let advance = (next as usize + n - closed as usize % n) % n;
         let was = st.filled;
-        st.filled = 0;
-        st.recut = false;
-        st.recut_rows = 0;
-        if !(self.on && self.realigns && whole == 1 && advance > 0 && i0 < BINS) {
+        Self::forget(st);
+        if !(self.on && self.realigns && whole == 1 && (1..n).contains(&advance) && i0 < BINS) {
             return;
         }
-        st.recut = true;
-        st.moved_n = 0;
         let mut old = st.last;
         if let Some(l) = old.get_mut(closed as usize).and_then(|r| r.last_mut()) {
             *l = st.kept;
@@ -557,22 +564,17 @@ impl Handover {
         st.last_tooth = tooth;
         let steady = match period {
             Period::Cut { steady } if in_order => steady,
-            Period::Moved => {
-                // The profiles re-cut (`realign`); the open period follows this one.
-                st.last_tooth = ((st.open as usize + n - 1) % n.max(1)) as u8;
-                st.streak = 0;
-                st.prev_ok = false;
-                st.var_count = 0;
-                return (0.0, 0.0);
-            }
             _ => {
-                // Tooth alignment or the cut itself is lost: nothing compares across it.
-                st.filled = 0;
-                st.recut = false;
-                st.recut_rows = 0;
+                if period == Period::Moved {
+                    // The profiles re-cut (`realign`); the open period follows this one.
+                    st.last_tooth = ((st.open as usize + n - 1) % n.max(1)) as u8;
+                } else {
+                    // Tooth alignment or the cut itself is lost: nothing compares across it.
+                    Self::forget(st);
+                }
                 st.streak = 0;
                 st.prev_ok = false;
-                if period == Period::Restart {
+                if period != Period::Unusable {
                     st.var_count = 0;
                 }
                 return (0.0, 0.0);
@@ -631,7 +633,7 @@ impl Handover {
             *p = sum;
         }
         let ok = ok && sum.is_finite();
-        if st.recut && ok {
+        if st.against_recut && ok {
             Self::moved_change(st, sum);
         }
         let out = if m_best > 0.0 {
@@ -963,8 +965,8 @@ mod tests {
     /// `delay` samples after them from the next pulse on (the window's move; the period
     /// that holds it is odd, two teeth on past one and a half periods). The drop trip is
     /// armed after each period at half the tooth, no floor, `quiet` from the move on (see
-    /// `arm_trip`). The first trip, (period, sample in it); each period's change from its
-    /// profile since the move.
+    /// `arm_trip`). The first trip, (period, sample in it); the changes of the periods
+    /// compared with a re-cut profile.
     fn feed_moved(
         h: Handover,
         x: &[f32],
@@ -988,7 +990,8 @@ mod tests {
                         let odd = p - 1 == moved;
                         let period = if odd {
                             h.period_len(&mut st, LEN as u32);
-                            h.realign(&mut st, t as u8, len as u32, LEN as u32, tooth as u8);
+                            let advance = (tooth + n - t) % n;
+                            h.realign(&mut st, t as u8, advance, len as u32, LEN as u32);
                             Period::Moved
                         } else {
                             h.period_len(&mut st, len as u32);
@@ -1050,7 +1053,8 @@ mod tests {
             let steady = stream(100, start, |_, _| 1.0);
             let (trip, changes) = feed_moved(h, &steady, moved, delay, 1.0);
             assert_eq!(trip, None, "start {start}");
-            assert_eq!(changes.len(), MAX_TEETH, "start {start}");
+            // (One period of each tooth is compared with its re-cut profile.)
+            assert_eq!(changes.len(), n, "start {start}");
             let worst = changes.iter().fold(0.0f32, |m, c| m.max(c.abs()));
             assert!(worst < 0.01 * tooth, "start {start}: {changes:?}");
             let x = stream(100, start, chip);
@@ -1081,7 +1085,7 @@ mod tests {
         assert!(feed_moved(h, &x, 60, 16, f32::INFINITY).0.is_some());
         let (trip, changes) = feed_moved(h, &x, 60, 16, 1.0);
         assert_eq!(trip, None);
-        // The first revolution loses; after it, the periods that lost are the reference.
+        // Each tooth's first period after the move lost against its re-cut profile.
         assert!(
             changes[..N as usize].iter().all(|&c| c < -1.0),
             "{changes:?}"

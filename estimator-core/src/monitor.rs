@@ -367,8 +367,6 @@ struct Means {
     samples: u32,
     v: [f32; 2],
     moving: bool,
-    /// The period's tooth index.
-    tooth: u8,
 }
 
 /// One valid tooth in the filter window.
@@ -580,8 +578,23 @@ impl Monitor {
         let len = st.tooth.reference_len();
         self.boundary.rebin(&mut st.win, len);
         self.handover.period_len(&mut st.hand, len);
+        // The teeth the tooth stage counted the odd period as: up to the open period's.
+        let n = self.cfg.estimator.tool.flutes as usize;
+        let teeth = (st.tooth.open_tooth() as usize + n - p.tooth as usize % n.max(1)) % n.max(1);
         self.handover
-            .realign(&mut st.hand, p.tooth, p.samples, len, st.tooth.open_tooth());
+            .realign(&mut st.hand, p.tooth, teeth, p.samples, len);
+        // Not stored in the filter window (its length is flagged), the odd period's teeth
+        // are stored as they were a revolution earlier. Left out, each revolution mean over
+        // it would hold one tooth twice and miss one, off by the runout, and the transient
+        // test would flag the revolutions after a move as a change of the cut. (A mean that
+        // holds teeth of both alignments is still off by the runout's share of the
+        // boundary's shift, less.) Only where its length is all that is wrong with it.
+        if p.status == Status(Status::WINDOW_MOVED.0 | Status::PERIOD_INVALID.0) && st.len >= n {
+            for _ in 0..teeth {
+                let e = st.back(n - 1);
+                self.push(st, e, n);
+            }
+        }
     }
 
     /// Feed force and second force [N] from a period's raw channel means (feed X, feed Y,
@@ -752,7 +765,6 @@ impl Monitor {
             samples: p.samples,
             v: [v0, v1],
             moving,
-            tooth: p.tooth,
         };
         let (status, e) = self.judge(st, p.status, &means, probe);
         let (handover_z, handover_n) = self.handover(st, p.tooth, status, per_unit_n);
@@ -834,9 +846,6 @@ impl Monitor {
         if !usable {
             status.set_if(status.is_valid(), Status::NON_FINITE);
             st.settle = self.settle_teeth();
-            if status == Status(Status::WINDOW_MOVED.0 | Status::PERIOD_INVALID.0) {
-                self.skip_moved(st, n, t.tooth);
-            }
             return (status, none);
         }
         // Air cut or stopped feed: nothing to estimate, and the cut that follows starts
@@ -1081,26 +1090,6 @@ impl Monitor {
         }
         st.head = (head + 1) & (MAX_WINDOW - 1);
         st.len = (st.len + 1).min(MAX_WINDOW);
-    }
-
-    /// The period that held a window's move (one or two teeth of the tooth index, a mix of
-    /// two alignments) is not stored: the teeth it spans are stored as they were a
-    /// revolution earlier. Left out, each revolution mean over it would hold one tooth twice
-    /// and miss one, off by the runout, and the transient test would flag the revolutions
-    /// after a move as a change of the cut. (A mean that holds teeth of both alignments is
-    /// still off by the runout's share of the boundary's shift, less.)
-    #[cold]
-    #[inline(never)]
-    fn skip_moved(&self, st: &mut MonitorState, n: usize, tooth: u8) {
-        if st.len < n || n == 0 {
-            return;
-        }
-        // (The teeth the tooth stage counted it as: up to the open period's.)
-        let teeth = (st.tooth.open_tooth() as usize + n - tooth as usize % n) % n;
-        for _ in 0..teeth {
-            let e = st.back(n - 1);
-            self.push(st, e, n);
-        }
     }
 
     /// Teeth a disturbance keeps the immersion flagged: the window, and at least the two

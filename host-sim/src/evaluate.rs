@@ -859,11 +859,8 @@ mod tests {
     /// feed, held there for the rest of the job.
     fn feed_hold(index: usize, ramp_s: f64, share: f64) -> Case {
         let mut case = draw_case(Kind::Normal, index, 1).expect("a normal case");
+        let feed = first_feed_mm_min(&case);
         let segs = &mut case.scenario.segments;
-        let feed = match segs[0].feed_mm_min {
-            Some(Profile::Constant(f)) => f,
-            ref p => panic!("first segment's feed {p:?}"),
-        };
         segs[3].duration_s = ramp_s;
         segs[3].feed_mm_min = Some(Profile::Ramp(feed, share * feed));
         for s in segs.iter_mut().skip(4) {
@@ -901,6 +898,15 @@ mod tests {
             }
         }
         assert!(raised.is_empty(), "{raised:#?}");
+    }
+}
+
+/// The feed of a drawn case's first segment, up to its feed change [mm/min].
+#[cfg(test)]
+fn first_feed_mm_min(case: &Case) -> f64 {
+    match case.scenario.segments[0].feed_mm_min {
+        Some(sim::scenario::Profile::Constant(f)) => f,
+        ref p => panic!("first segment's feed {p:?}"),
     }
 }
 
@@ -1229,10 +1235,7 @@ mod held_out_tests {
         .expect("the case runs");
         let moved = moved.expect("the window moves");
         let tooth_s = 60.0 / (case.rpm_at_damage * f64::from(case.scenario.tool.flutes));
-        let feed_mm_s = match case.scenario.segments[0].feed_mm_min {
-            Some(crate::sim::scenario::Profile::Constant(f)) => f / 60.0,
-            ref p => panic!("first segment's feed {p:?}"),
-        };
+        let feed_mm_s = first_feed_mm_min(&case) / 60.0;
         let mut case = case;
         let work = &mut case.scenario.workpiece.as_mut().expect("faces").spans_mm[0];
         // The entry face lies the arc's reach past the path at the end of the first air
