@@ -1122,7 +1122,14 @@ impl Alarms {
                 if let Some(var) = noise {
                     // (Out of a steady cut: the record before the loss not transient. As
                     // an exit fades, flutes of unequal runout leave at unequal times.)
-                    if prev2_steady && self.handed_over(st, r0, var, prev_steady) {
+                    // (A flagged loss only out of a cut steady for the 2N records before
+                    // it, the loss's bits 2.. of `unflagged`: in a cut that keeps changing, a
+                    // pair is its change of shape.)
+                    if prev2_steady
+                        && (prev_steady
+                            || (!st.unflagged >> 2) & (u32::MAX >> (32 - (2 * n).min(30))) == 0)
+                        && self.handed_over(st, r0, var, prev_steady)
+                    {
                         st.handed = Some(st.tooth(1));
                         st.handed_loss_n = st.force(n + 1) - st.force(1);
                         let pair = r0 + st.handed_loss_n;
