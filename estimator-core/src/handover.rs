@@ -139,6 +139,16 @@ pub struct HandoverState {
     bin_len: f32,
     /// `JITTER_SAMPLES / bin_len`.
     jitter_bins: f32,
+    /// The open tooth's bin-0 mean a revolution earlier, and how far the open bin's
+    /// (`cur_l`) lies from it. A shift of the bins by `JITTER_SAMPLES` against that
+    /// period moves a sum over the open period's first bins by the samples at its two ends:
+    /// where it starts (bin 0's level) and where it stops (the open bin's; at the boundary
+    /// between two bins, the one further from the start). `jitter_bins * edge` is that
+    /// loss, allowed for in the trip's limit inside the period: a light cut's steep chip
+    /// edge there makes it a quarter of the tooth's force (seed 165, normal case 100); the
+    /// whole period, at its close, is not moved by a shift.
+    start_l: f32,
+    edge: f32,
     run: f32,
     cur_l: f32,
     run_limit: f32,
@@ -184,6 +194,8 @@ impl Default for HandoverState {
             lost: 0.0,
             bin_len: 1.0,
             jitter_bins: 0.0,
+            start_l: 0.0,
+            edge: 0.0,
             run: 0.0,
             cur_l: 0.0,
             run_limit: f32::NEG_INFINITY,
@@ -278,29 +290,10 @@ impl Handover {
     #[inline(always)]
     fn bin_limit(st: &mut HandoverState) {
         st.run_limit = if (st.fold as usize) < BINS - 1 && st.trip < f32::INFINITY {
-            -(st.trip + Self::jitter_loss(st, st.fold as usize, st.fold as usize) + st.deficit)
-                * st.bin_len
+            -(st.trip + st.jitter_bins * st.edge + st.deficit) * st.bin_len
         } else {
             f32::NEG_INFINITY
         };
-    }
-
-    /// The loss of a sum over the open period's first bins that a shift of the bins by
-    /// `JITTER_SAMPLES` against the same tooth's a revolution earlier makes: the shift moves
-    /// the sum by the samples at its two ends, where it starts (the boundary: the signal's
-    /// level a revolution earlier in bin 0) and where it stops (in bin `lo` or `hi`: at the
-    /// boundary between two bins, the one further from the start). A light cut's steep chip
-    /// edge inside the period makes it a quarter of the tooth's force (seed 165, normal case
-    /// 100); the whole period, at its close, is not moved by a shift.
-    #[inline(always)]
-    fn jitter_loss(st: &HandoverState, lo: usize, hi: usize) -> f32 {
-        let Some(last) = st.last.get(st.open as usize) else {
-            return 0.0;
-        };
-        let at = |k: usize| last.get(k).copied().unwrap_or(0.0);
-        let start = at(0);
-        let end = fmath::max(libm::fabsf(at(lo) - start), libm::fabsf(at(hi) - start));
-        st.jitter_bins * end
     }
 
     /// The closed period was `len` samples long: the open period's bins are that length's
@@ -331,10 +324,12 @@ impl Handover {
             j += 1;
         }
         st.deficit = d;
-        if d < -(st.trip + Self::jitter_loss(st, bin.saturating_sub(1), bin)) {
+        let before =
+            libm::fabsf(last.get(bin.saturating_sub(1)).copied().unwrap_or(0.0) - st.start_l);
+        Self::open_bin(st, bin);
+        if d < -(st.trip + st.jitter_bins * fmath::max(before, st.edge)) {
             Self::tripped(st, -d);
         }
-        Self::open_bin(st, bin);
     }
 
     /// Bin `bin` of the open period starts: its change so far is none, its reference
@@ -348,6 +343,10 @@ impl Handover {
             .and_then(|last| last.get(bin))
             .copied()
             .unwrap_or(0.0);
+        if bin == 0 {
+            st.start_l = st.cur_l;
+        }
+        st.edge = libm::fabsf(st.cur_l - st.start_l);
         Self::bin_limit(st);
     }
 
