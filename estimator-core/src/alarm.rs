@@ -13,7 +13,7 @@
 //!   `R_i = F_i - F_{i-N}` the tooth's change from one revolution earlier). Steady runout
 //!   repeats every revolution and cancels in `E`; a change common to all teeth (engagement,
 //!   feed) gives a single spike of `E`; a flute that breaks hands its chip to the next flute
-//!   and gives a `-, +, -` burst. Threshold `max(k F_expected, 4.5 sigma_E)`, widened by the
+//!   and gives a `-, +, -` burst. Threshold `max(k F_expected, 5 sigma_E)`, widened by the
 //!   revolution-mean growth (flutes of unequal chip grow at unequal rates during an entry);
 //!   `sigma_E` is E's running spread (a plain mean over the first 32 values, then
 //!   exponential; the rules decide from 16 values on, the variance scaled by `32 / count`
@@ -33,6 +33,9 @@
 //!     periods (several flutes engaged at once), where no single `E` passes. The same
 //!     against `SLOW_REVS` (3) revolutions earlier (the growth over those revolutions, and
 //!     at the same speed): under runout the chips after a break settle over a few passes.
+//!     And each tooth's mean over the newest two revolutions against its mean over the two
+//!     `MEANS_BACK_REVS` (3) earlier, the floor `4.5 sigma_R / sqrt 2` (3 to 12 flutes,
+//!     every revolution at the same speed): a loss the noise of single teeth hides.
 //!   - a first tooth alone: out of a steady cut (the record before not transient, the
 //!     noise figure settled), a tooth whose force rose from one revolution earlier by
 //!     more than 35 % of it and 6 sigma_R, with at least the 3 (and the `N - 1`) teeth
@@ -81,8 +84,9 @@
 //!     revolutions each tooth's loss is the exit's (every loss credited let exits trip:
 //!     seed 72 taught 22; and through flagged records, seed 36 normal 22). Where the tooth of the next period lost force a revolution
 //!     ago and the tooth after it gained (together past 4.5 sigma_R, 5 where the loss's
-//!     record is flagged transient, each past 1.5, of the noise figure before the pair
-//!     widened it, the record before the loss not transient:
+//!     record is flagged transient and then only where the revolution before it held its
+//!     force, each past 1.5, of the noise figure before the pair widened it, the record
+//!     before the loss not transient:
 //!     a flute broken inside its period, its loss and the next flute's gain under the
 //!     rules above; as an exit fades, flutes of unequal runout leave at unequal times),
 //!     and the newest tooth lost under 2 sigma_R (an exit may begin right after a noise
@@ -395,6 +399,11 @@ impl AlarmConfig {
             armed_two_revs: ones(2 * n),
             armed_e: 0b11 | (0b11 << n),
             armed_slow: ones((SLOW_REVS + 1) * n),
+            armed_means: if n >= 3 && (MEANS_BACK_REVS + 2) * n <= HISTORY {
+                ones((MEANS_BACK_REVS + 2) * n)
+            } else {
+                0
+            },
             peak_decay: libm::powf(PEAK_DECAY_PER_REV, 1.0 / n.max(1) as f32),
         })
     }
@@ -613,11 +622,17 @@ const SETTLED_E: usize = 32;
 const SETTLED_E_MIN: usize = 16;
 /// Weight of a new E in its running variance (memory of about 32 teeth).
 const E_ALPHA: f32 = 1.0 / 32.0;
-/// Breakage threshold floor, in standard deviations of E. Not 4: one tooth's noise
-/// excursion swings `E` both ways at once (the breakage pattern), and the spread is
-/// estimated from about 32 teeth (its variance within about 25 %); at 4, two steady cuts
-/// of held-out seeds (15) raised a false breakage, and 4.5 costs no full breakage.
-const E_SIGMAS: f32 = 4.5;
+/// Breakage threshold floor, in standard deviations of E. One tooth's noise excursion
+/// swings `E` both ways at once (the breakage pattern: two exceedances of both signs, a
+/// pair of `E` correlated -0.5), and the spread is estimated from about 32 teeth (its
+/// variance within about 25 %). At 4, two steady cuts of held-out seeds (15) raised a
+/// false breakage; at 4.5, one in the 15 million teeth of seeds 1-288's normal cuts (seed
+/// 250 normal 84: `E` -40 N and +37.7 N against 35.8 N, the spread 9.0 N over the cut).
+/// For Gaussian noise 5 makes that pair about 30 times rarer.
+const E_SIGMAS: f32 = 5.0;
+/// The redistribution's floor, in standard deviations of `R`: two teeth's changes of both
+/// signs past it, which one tooth's excursion does not make.
+const R_SIGMAS: f32 = 4.5;
 
 /// First-tooth decision: the newest tooth's force fell from one revolution earlier by more
 /// than this share of what it was (and by [`FIRST_TOOTH_SIGMAS`] of the noise), with the
@@ -674,6 +689,10 @@ const EVIDENCE_SIGMAS: f32 = 4.5;
 /// ... or this many where the loss's own record was flagged transient (an exit may begin
 /// with a flagged record: seed 110, normal case 81, a pair of 4.7 at 4.5 alone).
 const EVIDENCE_FLAGGED_SIGMAS: f32 = 5.0;
+/// ... and then only where the revolution before the loss held its force against the one
+/// three revolutions earlier (an exit fades slowly), to this many sigma of that change
+/// (`Alarms::held_before_loss`).
+const EVIDENCE_FALL_SIGMAS: f32 = 2.0;
 /// ... the loss beyond this many.
 const EVIDENCE_EACH_SIGMAS: f32 = 1.5;
 /// ... the trip's share then ...
@@ -696,6 +715,15 @@ pub const TRIP_NAMED_WITHIN: u8 = 3;
 /// passes no threshold one revolution at a time. (`(SLOW_REVS + 1) MAX_FLUTES` teeth fit
 /// the history.)
 const SLOW_REVS: usize = 3;
+/// The redistribution of two revolutions' means: the newest two against the two this many
+/// revolutions earlier. Not 2 (the two revolutions right before): under runout the next
+/// flute's gain grows over its second pass after the break, and the newest pair must be
+/// past the break while the pair it is compared with is before it. Not with 2 flutes:
+/// there a loss on one tooth and a gain on the other is the only shape any change of the
+/// force's split between the two windows takes, and over five revolutions the split drifts
+/// (after a speed change, seed 31 taught 21 and seed 91 break 65: one tooth 10 N a
+/// revolution up, the other down, the total steady).
+const MEANS_BACK_REVS: usize = 3;
 const _: () = assert!((SLOW_REVS + 1) * MAX_FLUTES <= HISTORY);
 
 /// A single `E` beyond this multiple of the threshold raises a breakage by itself.
@@ -801,11 +829,14 @@ pub struct Alarms {
     est: EstimatorConfig,
     n: usize,
     /// `AlarmState::armed` masks: the newest `n` teeth, the newest `2 n`, teeth
-    /// `0, 1, n, n + 1` back (`E_i`), and the newest `(SLOW_REVS + 1) n`.
+    /// `0, 1, n, n + 1` back (`E_i`), the newest `(SLOW_REVS + 1) n`, and the newest
+    /// `(MEANS_BACK_REVS + 2) n` (0 where that rule is off: 2 flutes, and over 12, where
+    /// the history is shorter).
     armed_rev: u64,
     armed_two_revs: u64,
     armed_e: u64,
     armed_slow: u64,
+    armed_means: u64,
     /// Per-tooth decay of the recent peak force.
     peak_decay: f32,
 }
@@ -1089,7 +1120,12 @@ impl Alarms {
                 // threshold widens by half the revolution growth. Screened on the newest
                 // `R` (it makes the pattern complete). The same against SLOW_REVS
                 // revolutions earlier: the same noise (two teeth's), the growth over those
-                // revolutions.
+                // revolutions. And each tooth's mean over the last two revolutions against
+                // its mean over the two [`MEANS_BACK_REVS`] earlier (`span` 2): half the
+                // noise variance, for a loss spread over two periods that the noise of
+                // single teeth hides (arcs wider than a pitch, where the encoder's jitter
+                // moves the steep edges inside the cut across the boundaries: seeds 244 and
+                // 263, 4 flutes, sigma_R 5-7 % of the tooth; never decided before).
                 for (back, armed) in [
                     (n, rev_change.is_some()),
                     (SLOW_REVS * n, st.armed & self.armed_slow == self.armed_slow),
@@ -1097,21 +1133,23 @@ impl Alarms {
                     #[allow(clippy::neg_cmp_op_on_partial_ord)]
                     let newest_past = !(libm::fabsf(st.force(0) - st.force(back)) <= screen);
                     if settled && newest_past && armed {
-                        let (r_max, r_min, r_sum) = self.change_range(st, back);
-                        let spread = crate::fmath::min(r_max, -r_min);
-                        let widen = 0.5 * libm::fabsf(r_sum / n as f32);
-                        if spread > screen + widen {
-                            let floor_r = E_SIGMAS * libm::sqrtf(0.5 * e_var);
-                            let expected = match st.held {
-                                Some((rr, ra)) => self.model_signal(rr, ra, rec.tc_mm),
-                                None => measured,
-                            };
-                            let t =
-                                crate::fmath::max(crate::fmath::max(k * expected, floor_r), screen)
-                                    + widen;
-                            if spread > t && (back == n || self.same_speed(st, back)) {
-                                raise(Cause::Breakage, spread, t);
-                            }
+                        let c = (k, measured, screen, e_var);
+                        if let Some((v, t)) = self.redistribution(st, rec.tc_mm, back, 1, c) {
+                            raise(Cause::Breakage, v, t);
+                        }
+                    }
+                }
+                if settled
+                    && self.armed_means != 0
+                    && st.armed & self.armed_means == self.armed_means
+                {
+                    let back = MEANS_BACK_REVS * n;
+                    let newest = st.force(0) + st.force(n) - st.force(back) - st.force(back + n);
+                    #[allow(clippy::neg_cmp_op_on_partial_ord)]
+                    if !(libm::fabsf(0.5 * newest) <= screen) {
+                        let c = (k, measured, screen, e_var);
+                        if let Some((v, t)) = self.redistribution(st, rec.tc_mm, back, 2, c) {
+                            raise(Cause::Breakage, v, t);
                         }
                     }
                 }
@@ -1123,11 +1161,14 @@ impl Alarms {
                     // (Out of a steady cut: the record before the loss not transient. As
                     // an exit fades, flutes of unequal runout leave at unequal times.)
                     // (A flagged loss only out of a cut steady for the 2N records before
-                    // it, the loss's bits 2.. of `unflagged`: in a cut that keeps changing, a
-                    // pair is its change of shape.)
+                    // it, the loss's bits 2.. of `unflagged`, whose force held: in a cut that
+                    // keeps changing, a pair is its change of shape (seed 200 normal 44); an
+                    // exit flagged for its first revolutions fades on unflagged, each tooth
+                    // at its own time (seed 276 normal 52).)
                     if prev2_steady
                         && (prev_steady
-                            || (!st.unflagged >> 2) & (u32::MAX >> (32 - (2 * n).min(30))) == 0)
+                            || (!st.unflagged >> 2) & (u32::MAX >> (32 - (2 * n).min(30))) == 0
+                                && self.held_before_loss(st, var))
                         && self.handed_over(st, r0, var, prev_steady)
                     {
                         st.handed = Some(st.tooth(1));
@@ -1637,6 +1678,33 @@ impl Alarms {
         r0 > 0.0 && r1 < 0.0 && r1 * r1 > each && both * both > sigmas * sigmas * var_r
     }
 
+    /// Whether the revolution before the loss (the tooth before the newest) held its force
+    /// against the revolution three earlier: its sum fell by no more than
+    /// [`EVIDENCE_FALL_SIGMAS`] of that difference's noise (`sqrt N sigma_R`; `var`: E's
+    /// variance). An exit fades over revolutions (at seed 276, normal case 52, the sum fell
+    /// 297 N, 4.7 of it, before a flagged loss that passed as a hand-over; 1.8 against two
+    /// revolutions earlier); a cut settling after its entry holds (seed 20 break case 0).
+    /// False without the history (over 15 flutes).
+    #[cold]
+    #[inline(never)]
+    fn held_before_loss(&self, st: &AlarmState, var: f32) -> bool {
+        let n = self.n;
+        let span = 4 * n + 2;
+        let armed = if span >= 64 {
+            u64::MAX
+        } else {
+            (1u64 << span) - 1
+        };
+        if span > HISTORY || st.armed & armed != armed {
+            return false;
+        }
+        let fall: f32 = (2..2 + n).map(|k| st.force(k + 3 * n) - st.force(k)).sum();
+        #[allow(clippy::neg_cmp_op_on_partial_ord)]
+        let held = !(fall > 0.0
+            && fall * fall > EVIDENCE_FALL_SIGMAS * EVIDENCE_FALL_SIGMAS * n as f32 * 0.5 * var);
+        held
+    }
+
     /// E's variance for the breakage thresholds and the drop trip, `None` before
     /// [`SETTLED_E_MIN`] values (and two revolutions'); scaled by `SETTLED_E / count` under
     /// [`SETTLED_E`]. Scaled up where the revolution mean `measured` is above the force the
@@ -1678,15 +1746,60 @@ impl Alarms {
         now.abs_diff(then) <= now / 100 + 2
     }
 
-    /// Largest and smallest change from `back` teeth earlier, `F_k - F_{k+back}`, over the
-    /// newest `N` teeth, and their sum (the caller has the last `N + back` armed).
+    /// The redistribution against `back` teeth earlier (`span` 2: two revolutions' means,
+    /// see `change_range`), past its screen on the newest tooth: `(spread, threshold)` where
+    /// it is decided. `(k, measured, screen, e_var)`: the breakage rules' relative
+    /// threshold, revolution-mean force, screen and E's variance. Out of line: most teeth
+    /// stop at the screen.
     #[inline(never)]
-    fn change_range(&self, st: &AlarmState, back: usize) -> (f32, f32, f32) {
+    fn redistribution(
+        &self,
+        st: &AlarmState,
+        tc_mm: f32,
+        back: usize,
+        span: usize,
+        (k, measured, screen, e_var): (f32, f32, f32, f32),
+    ) -> Option<(f32, f32)> {
+        let n = self.n;
+        let (r_max, r_min, r_sum) = self.change_range(st, back, span);
+        let spread = crate::fmath::min(r_max, -r_min);
+        let widen = 0.5 * libm::fabsf(r_sum / n as f32);
+        // (NaN: not decided.)
+        #[allow(clippy::neg_cmp_op_on_partial_ord)]
+        if !(spread > screen + widen) {
+            return None;
+        }
+        let floor_r = R_SIGMAS * libm::sqrtf(0.5 * e_var / span as f32);
+        let expected = match st.held {
+            Some((rr, ra)) => self.model_signal(rr, ra, tc_mm),
+            None => measured,
+        };
+        let t = crate::fmath::max(crate::fmath::max(k * expected, floor_r), screen) + widen;
+        // (Over the means, every revolution at the newest's speed: after a speed change the
+        // current loop's lag keeps moving force between the teeth for revolutions, as the
+        // flutes' chips settle.)
+        let speed = || match span {
+            1 => back == n || self.same_speed(st, back),
+            _ => (1..=MEANS_BACK_REVS + 1).all(|j| self.same_speed(st, j * n)),
+        };
+        (spread > t && speed()).then_some((spread, t))
+    }
+
+    /// Largest and smallest change from `back` teeth earlier over the newest `N` teeth, and
+    /// their sum: `F_k - F_{k+back}`, or for `span` 2 the tooth's mean over two
+    /// revolutions, `(F_k + F_{k+N} - F_{k+back} - F_{k+back+N}) / 2` (the caller has the
+    /// last `N + back + (span - 1) N` armed).
+    #[inline(never)]
+    fn change_range(&self, st: &AlarmState, back: usize, span: usize) -> (f32, f32, f32) {
         let (mut hi, mut lo, mut sum) = (f32::NEG_INFINITY, f32::INFINITY, 0.0f32);
+        let at = |k: usize| st.hist_f.get(k & (HISTORY - 1)).copied().unwrap_or(0.0);
         let (mut i, mut j) = (st.slot(0), st.slot(back));
         for _ in 0..self.n {
-            let r =
-                st.hist_f.get(i).copied().unwrap_or(0.0) - st.hist_f.get(j).copied().unwrap_or(0.0);
+            let r = if span == 2 {
+                0.5 * (at(i) + at(i.wrapping_sub(self.n)) - at(j) - at(j.wrapping_sub(self.n)))
+            } else {
+                at(i) - at(j)
+            };
             hi = crate::fmath::max(hi, r);
             lo = crate::fmath::min(lo, r);
             sum += r;
@@ -2156,7 +2269,9 @@ mod tests {
         for after in [
             [0.0, -24.0, -30.0, -36.0, -42.0],
             [0.0, 0.0, 24.0, 0.0, 0.0],
-            [0.0, 0.0, -24.0, 24.0, 0.0],
+            // (The pair on teeth 3 and 0, the next period tooth 1's. On teeth 2 and 3 it
+            // would arm tooth 1 as the window before the handed tooth.)
+            [0.0, 0.0, 0.0, -24.0, 24.0],
         ] {
             let (floor, share) = trip_arming_after(&after);
             assert!(share >= TRIP_SHARE, "{after:?}: {share}");
@@ -2769,7 +2884,7 @@ mod tests {
 
     /// One tooth's force off by `x` in a steady cut: `E` swings both ways at once (`E_i =
     /// -x`, `E_{i+1} = +x`), a breakage's pattern from a single tooth's noise. Noise 3 N a
-    /// tooth: sigma_E 6 N; the threshold `4.5 sigma_E` (27 N, over `k F` = 21 N) plus the
+    /// tooth: sigma_E 6 N; the threshold `5 sigma_E` (30 N, over `k F` = 21 N) plus the
     /// revolution mean's change `x / 4`: `x` = 37 N stays under it (at a 4-sigma floor it
     /// raised), twice that is decided.
     #[test]
@@ -2791,7 +2906,7 @@ mod tests {
 
     #[test]
     fn a_loss_spread_over_two_periods_is_decided_when_the_gain_completes_it() {
-        // Noise 6 N a tooth: sigma_E 12 N, the floor 4.5 sigma_E = 54 N is above k F (21 N),
+        // Noise 6 N a tooth: sigma_E 12 N, the floor 5 sigma_E = 60 N is above k F (21 N),
         // 4.5 sigma_R = 38 N. Flute 1 breaks while several flutes are engaged: teeth 1 and 2
         // each lose 45 N (below the floor in E), tooth 3 gains the 90 N (the revolution
         // total stays). The revolution changes R = (-45, -45, +90) have both signs beyond
@@ -2811,6 +2926,26 @@ mod tests {
             &[[0.0, 40.0, 40.0, 40.0], step, step, step].concat(),
         );
         assert_eq!(first_breakage(&f), None);
+    }
+
+    /// A flute's loss under the noise of single teeth (noise 6 N a tooth; sigma_R 9.4 N as
+    /// the rules estimate it): tooth 1 loses 42 N for good and tooth 2 takes them. One
+    /// revolution's `R` (-42, +42) stays under the floor of `4.5 sigma_R`, the changes
+    /// from three revolutions earlier too, and `E` passes `5 sigma_E` only once, with one
+    /// sign: without the means no rule decides it in 8 revolutions. Each tooth's mean over
+    /// the newest two revolutions against its mean over the two three revolutions earlier
+    /// has the noise of `R` over sqrt 2 (the floor 30 N): decided in the revolution after
+    /// the break's, the first whose newest two are both past it. The same change on every
+    /// tooth (an engagement step) is not.
+    #[test]
+    fn a_loss_under_single_teeths_noise_is_decided_on_two_revolutions_means() {
+        let broken = [0.0, -42.0, 42.0, 0.0];
+        let f = forces(6.0, 30, &[broken; 8].concat());
+        let at = first_breakage(&f).map(|i| i as i64 - (4 * 30 + 1));
+        // (From the break's tooth: tooth 0 of the next revolution is 3.)
+        assert!(at.is_some_and(|k| (3..7).contains(&k)), "{at:?}");
+        let step = [42.0 * 1.3, 42.0, 42.0, 42.0];
+        assert_eq!(first_breakage(&forces(6.0, 30, &[step; 8].concat())), None);
     }
 
     /// The first event (index and cause) of the forces fed as records of a 5 N floor, each
