@@ -404,6 +404,11 @@ impl AlarmConfig {
             } else {
                 0
             },
+            armed_held: if 4 * n + 2 <= HISTORY {
+                ones(4 * n + 2)
+            } else {
+                0
+            },
             peak_decay: libm::powf(PEAK_DECAY_PER_REV, 1.0 / n.max(1) as f32),
         })
     }
@@ -831,12 +836,14 @@ pub struct Alarms {
     /// `AlarmState::armed` masks: the newest `n` teeth, the newest `2 n`, teeth
     /// `0, 1, n, n + 1` back (`E_i`), the newest `(SLOW_REVS + 1) n`, and the newest
     /// `(MEANS_BACK_REVS + 2) n` (0 where that rule is off: 2 flutes, and over 12, where
-    /// the history is shorter).
+    /// the history is shorter), and the newest `4 n + 2` (`held_before_loss`; 0 over 15
+    /// flutes).
     armed_rev: u64,
     armed_two_revs: u64,
     armed_e: u64,
     armed_slow: u64,
     armed_means: u64,
+    armed_held: u64,
     /// Per-tooth decay of the recent peak force.
     peak_decay: f32,
 }
@@ -1689,20 +1696,12 @@ impl Alarms {
     #[inline(never)]
     fn held_before_loss(&self, st: &AlarmState, var: f32) -> bool {
         let n = self.n;
-        let span = 4 * n + 2;
-        let armed = if span >= 64 {
-            u64::MAX
-        } else {
-            (1u64 << span) - 1
-        };
-        if span > HISTORY || st.armed & armed != armed {
+        if self.armed_held == 0 || st.armed & self.armed_held != self.armed_held {
             return false;
         }
         let fall: f32 = (2..2 + n).map(|k| st.force(k + 3 * n) - st.force(k)).sum();
-        #[allow(clippy::neg_cmp_op_on_partial_ord)]
-        let held = !(fall > 0.0
-            && fall * fall > EVIDENCE_FALL_SIGMAS * EVIDENCE_FALL_SIGMAS * n as f32 * 0.5 * var);
-        held
+        !(fall > 0.0
+            && fall * fall > EVIDENCE_FALL_SIGMAS * EVIDENCE_FALL_SIGMAS * n as f32 * 0.5 * var)
     }
 
     /// E's variance for the breakage thresholds and the drop trip, `None` before
