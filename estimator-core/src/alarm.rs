@@ -992,8 +992,8 @@ impl Alarms {
                 .intersects(Status(Status::NO_SYNC.0 | Status::WINDOW_MOVED.0))
         {
             // Forgets every tooth (none is armed any more). Out of a steady cut, the
-            // two revolutions until the rules compare revolutions again are watched for
-            // a flute that carries nothing (`flute_missing`).
+            // two revolutions until the rules compare revolutions again, and one more, are
+            // watched for a flute that carries nothing (`flute_missing`).
             st.armed = 0;
             st.exceed_pos = 0;
             st.exceed_neg = 0;
@@ -1001,7 +1001,7 @@ impl Alarms {
             // (Steady within the last revolution: the period after a moved window or a
             // lost pulse is often flagged for its length too, a second forget.)
             st.resumed = if st.since_steady <= n as u32 {
-                (2 * n + 2).min(u8::MAX as usize) as u8
+                (3 * n + 2).min(u8::MAX as usize) as u8
             } else {
                 0
             };
@@ -1265,6 +1265,10 @@ impl Alarms {
         // on every record of those two revolutions that has a revolution mean, the second
         // one's too: on a 2-flute tool whose flute broke in the first period armed, the
         // first one's empty period is the newest (left out) until the second revolution.
+        // And one revolution more: a flute broken early in its period in the second
+        // revolution leaves that window half its force, over the share, and its first
+        // empty one is the newest on the second revolution's last record (seed 414 break
+        // case 72, caught at the exit, 92 revolutions on).
         if st.resumed > 0 {
             st.resumed -= 1;
             if let (true, Some(mean)) = (self.cfg.breakage.enabled && deciding, rev_mean) {

@@ -1062,6 +1062,19 @@ mod held_out_tests {
         no_alarm_over_noise(Kind::Taught, 14, 382, 8);
     }
 
+    /// A flute broken a revolution after the window's one move of the cut (4 flutes, 3 712
+    /// rpm, `R_r` 1.1, tooth averages of 800-900 N): the history was forgotten at the move,
+    /// and the missing-flute watch ran for 2N+2 records. The flute broke early in its
+    /// period, whose window still held 399 N (46 % of the mean, over the 0.45 share); its
+    /// first empty pass (163 N against 900) came on the watch's last record, where it was
+    /// the newest tooth, which the watch leaves out. Caught 91.66 revolutions late, at the
+    /// exit. The watch now runs 3N+2 records. Found at seeds 385-432.
+    #[test]
+    fn a_flute_broken_in_the_revolution_after_a_move_is_caught() {
+        let revs = latencies_over_noise(72, 414, 8);
+        assert!(revs.iter().all(|r| r.is_some_and(|r| r < 2.0)), "{revs:?}");
+    }
+
     /// A flute of a 4-flute tool broken in a wide arc (down milling, 3 529 rpm, tooth
     /// averages of 950-1 550 N, sigma_R 72 N: the encoder's jitter moves the steep edges
     /// inside the cut across the boundaries): its tooth lost 280 N in the first revolution
