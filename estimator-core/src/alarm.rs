@@ -410,6 +410,7 @@ impl AlarmConfig {
                 0
             },
             armed_fade: if 5 * n <= HISTORY { ones(5 * n) } else { 0 },
+            armed_two_back: 0b11 << (2 * n),
             armed_held: if 4 * n + 2 <= HISTORY {
                 ones(4 * n + 2)
             } else {
@@ -816,6 +817,13 @@ impl AlarmState {
         self.head.wrapping_sub(1).wrapping_sub(k) & (HISTORY - 1)
     }
 
+    /// Whether every tooth of `mask` is armed; false for an empty mask (a rule that is
+    /// off for this tool).
+    #[inline(always)]
+    fn all_armed(&self, mask: u64) -> bool {
+        mask != 0 && self.armed & mask == mask
+    }
+
     /// Watched force of the `k`-th most recent tooth.
     #[inline(always)]
     fn force(&self, k: usize) -> f32 {
@@ -860,7 +868,8 @@ pub struct Alarms {
     /// `0, 1, n, n + 1` back (`E_i`), the newest `(SLOW_REVS + 1) n`, and the newest
     /// `(MEANS_BACK_REVS + 2) n` (0 where that rule is off: 2 flutes, and over 12, where
     /// the history is shorter), the newest `4 n + 2` (`held_before_loss`; 0 over 15
-    /// flutes) and the newest `5 n` (the drop trip's fall test; 0 over 12 flutes).
+    /// flutes), the newest `5 n` (the drop trip's fall test; 0 over 12 flutes), and teeth
+    /// `2 n, 2 n + 1` back (the hand-over's pair against two revolutions earlier).
     armed_rev: u64,
     armed_two_revs: u64,
     armed_e: u64,
@@ -868,6 +877,7 @@ pub struct Alarms {
     armed_means: u64,
     armed_held: u64,
     armed_fade: u64,
+    armed_two_back: u64,
     /// Per-tooth decay of the recent peak force.
     peak_decay: f32,
 }
@@ -1174,10 +1184,7 @@ impl Alarms {
                         }
                     }
                 }
-                if settled
-                    && self.armed_means != 0
-                    && st.armed & self.armed_means == self.armed_means
-                {
+                if settled && st.all_armed(self.armed_means) {
                     let back = MEANS_BACK_REVS * n;
                     let newest = st.force(0) + st.force(n) - st.force(back) - st.force(back + n);
                     #[allow(clippy::neg_cmp_op_on_partial_ord)]
@@ -1327,8 +1334,7 @@ impl Alarms {
                     Some((EVIDENCE_SHARE, floor))
                 } else if fresh
                     || self.no_recent_loss(st, TRIP_QUIET_SIGMAS * TRIP_QUIET_SIGMAS * var_r)
-                        && !(self.armed_fade != 0
-                            && st.armed & self.armed_fade == self.armed_fade
+                        && !(st.all_armed(self.armed_fade)
                             && self.fell(st, var, 0, 2, TRIP_FALL_SIGMAS))
                 {
                     // (After a move the hand-over stage walks the periods since; and no
@@ -1732,8 +1738,7 @@ impl Alarms {
     #[inline(never)]
     fn stands_two_back(&self, st: &AlarmState, var_r: f32) -> bool {
         let back = 2 * self.n;
-        let armed = 0b11u64 << back;
-        if st.armed & armed != armed {
+        if !st.all_armed(self.armed_two_back) {
             return true;
         }
         let both = (st.force(0) - st.force(back)) - (st.force(1) - st.force(back + 1));
@@ -1750,9 +1755,7 @@ impl Alarms {
     #[cold]
     #[inline(never)]
     fn held_before_loss(&self, st: &AlarmState, var: f32) -> bool {
-        self.armed_held != 0
-            && st.armed & self.armed_held == self.armed_held
-            && !self.fell(st, var, 2, 1, EVIDENCE_FALL_SIGMAS)
+        st.all_armed(self.armed_held) && !self.fell(st, var, 2, 1, EVIDENCE_FALL_SIGMAS)
     }
 
     /// Whether the `revs N` teeth from the `from`-th newest fell against the same teeth
