@@ -1062,6 +1062,20 @@ mod held_out_tests {
         no_alarm_over_noise(Kind::Taught, 14, 382, 8);
     }
 
+    /// Wide arcs in down milling (3-4 flutes, `R_r` 1.22-1.39, tooth averages of 450-1 400
+    /// N): a pair in the noise that passed as a hand-over's evidence (a tooth down, the
+    /// next up, past 4.5 sigma_R together), and an exit whose first period was one the
+    /// pair armed at 0.3 of the tooth: it lost 30-37 %. The pair tells nothing of the
+    /// period to come; the share now covers what an exit beginning there could take (one
+    /// feed's travel past what the newest tooth allows: 0.40-0.49 here). Seed 417 normal 98, seed 489 normal 21, seed
+    /// 537 normal 70, seed 627 normal 60: found at seeds 385-432, 481-576 and 577-672.
+    #[test]
+    fn an_exit_right_after_a_pair_trips_no_lower_than_its_share() {
+        for (index, seed) in [(98, 417), (21, 489), (70, 537), (60, 627)] {
+            no_alarm_over_noise(Kind::Normal, index, seed, 8);
+        }
+    }
+
     /// A flute broken a revolution after the window's one move of the cut (4 flutes, 3 712
     /// rpm, `R_r` 1.1, tooth averages of 800-900 N): the history was forgotten at the move,
     /// and the missing-flute watch ran for 2N+2 records. The flute broke early in its
