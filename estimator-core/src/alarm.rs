@@ -1320,20 +1320,23 @@ impl Alarms {
                 // (arcs wider than a pitch), the broken flute's cut begins in its window,
                 // and there its next pass loses from the cut's first angles on.
                 let before_handed = n >= 3 && st.handed == Some(((next + 1) % n) as u8);
-                // (After a pair, the share covers an exit that begins in that period:
-                // the pair tells of the teeth before it, not of the period to come.)
-                let armed = if before_handed && kept {
-                    self.trip_share(st, rec.tc_mm, sigma_r, true)
-                        .map(|share| (share, EVIDENCE_TRIP_SIGMAS * sigma_r))
+                let evidence_floor = if before_handed && kept {
+                    Some(EVIDENCE_TRIP_SIGMAS * sigma_r)
                 } else if st.handed == Some(next as u8) && kept {
                     // Not an exit so far (the next tooth gained), and the loss in the pair
                     // is no recent loss. The tooth's loss a revolution ago counts toward
                     // the floor: its period then is the reference now, and a flute broken
                     // inside it left less there to lose.
-                    let floor = crate::fmath::max(
+                    Some(crate::fmath::max(
                         EVIDENCE_TRIP_SIGMAS * sigma_r - st.handed_loss_n,
                         EVIDENCE_MIN_SIGMAS * sigma_r,
-                    );
+                    ))
+                } else {
+                    None
+                };
+                // (After a pair, the share covers an exit that begins in that period:
+                // the pair tells of the teeth before it, not of the period to come.)
+                let armed = if let Some(floor) = evidence_floor {
                     self.trip_share(st, rec.tc_mm, sigma_r, true)
                         .map(|share| (share, floor))
                 } else if fresh
