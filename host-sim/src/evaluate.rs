@@ -919,20 +919,26 @@ mod held_out_tests {
     /// No alarm on `kind` case `index` at draw seed `seed`, run with its own noise seed and
     /// the `seeds - 1` after it.
     fn no_alarm_over_noise(kind: Kind, index: usize, seed: u64, seeds: u64) {
-        let mut raised = Vec::new();
-        let drawn = draw_case(kind, index, seed).expect("a case").scenario.seed;
-        for noise in (0..seeds).map(|k| drawn.wrapping_add(k)) {
-            let mut case = draw_case(kind, index, seed).expect("a case");
-            case.scenario.seed = noise;
-            let out = run_case(&case).expect("the case runs");
-            if let Some(a) = out.first_alarm {
-                raised.push(format!("noise seed {noise}: {a:?}"));
-            }
-        }
+        let raised: Vec<String> = outcomes_over_noise(kind, index, seed, seeds)
+            .into_iter()
+            .filter_map(|(noise, out)| Some(format!("noise seed {noise}: {:?}", out.first_alarm?)))
+            .collect();
         assert!(
             raised.is_empty(),
             "{kind:?} {index} at seed {seed}: {raised:#?}"
         );
+    }
+
+    /// `kind` case `index` at draw seed `seed` over `seeds` noise seeds
+    /// (`outcomes_over_noise`): each run's damage caught, and no alarm before it.
+    fn caught_with_no_false_alarm(kind: Kind, index: usize, seed: u64, seeds: u64) {
+        for (noise, out) in outcomes_over_noise(kind, index, seed, seeds) {
+            assert!(
+                !out.false_alarm() && out.detected_after_s().is_some(),
+                "{kind:?} {index} at seed {seed}, noise seed {noise}: {:?}",
+                out.first_alarm
+            );
+        }
     }
 
     /// The entry of a light cut (3 flutes, R_r 0.27, a feed of 0.8 % of the 8 mm radius,
@@ -943,17 +949,7 @@ mod held_out_tests {
     /// before the damage, and the break is caught.
     #[test]
     fn a_light_cut_entered_raises_nothing_before_its_break() {
-        let drawn = draw_case(Kind::Break, 2, 46).expect("a case").scenario.seed;
-        let mut wrong = Vec::new();
-        for noise in (0..8).map(|k| drawn.wrapping_add(k)) {
-            let mut case = draw_case(Kind::Break, 2, 46).expect("a case");
-            case.scenario.seed = noise;
-            let out = run_case(&case).expect("the case runs");
-            if out.false_alarm() || out.detected_after_s().is_none() {
-                wrong.push(format!("noise seed {noise}: {:?}", out.first_alarm));
-            }
-        }
-        assert!(wrong.is_empty(), "{wrong:#?}");
+        caught_with_no_false_alarm(Kind::Break, 2, 46, 8);
     }
 
     /// Light cuts whose short, steep chips begin inside the tooth period: seed 165's normal
@@ -1041,13 +1037,7 @@ mod held_out_tests {
     /// samples; here 807 samples against 834). Found at seeds 289-336.
     #[test]
     fn a_speed_ramp_under_runout_is_no_hand_over() {
-        for (noise, out) in breaks_over_noise(105, 306, 8) {
-            assert!(
-                !out.false_alarm() && out.detected_after_s().is_some(),
-                "noise seed {noise}: {:?}",
-                out.first_alarm
-            );
-        }
+        caught_with_no_false_alarm(Kind::Break, 105, 306, 8);
     }
 
     /// A wide arc (3 flutes, `R_r` 1.5, 3 134 rpm, tooth averages of 230-270 N): in one
@@ -1074,6 +1064,50 @@ mod held_out_tests {
         for (index, seed) in [(98, 417), (21, 489), (70, 537), (60, 627)] {
             no_alarm_over_noise(Kind::Normal, index, seed, 8);
         }
+    }
+
+    /// A hand-over inside the period past 4 sigma in cuts with no break: seed 746 normal
+    /// 37 (2 flutes, 3 083 rpm, up milling, every record ambiguous: 8.5 N at 4.02 sigma
+    /// against the share's 4.6 N), seed 848 normal 97 (3 flutes, 1 871 rpm, down milling,
+    /// `R_r` 0.8: 21.5 N at 4.12 against 10.4 N), seed 699 chip 26 before its damage (4
+    /// flutes, up milling: 41 N at 4.05 against 26 N). Found at seeds 673-864, the first
+    /// runs past seeds 1-672; the hand-over now decides past 4.5 sigma.
+    #[test]
+    fn a_hand_over_just_past_four_sigma_is_noise() {
+        no_alarm_over_noise(Kind::Normal, 37, 746, 8);
+        no_alarm_over_noise(Kind::Normal, 97, 848, 8);
+        for (noise, out) in outcomes_over_noise(Kind::Chip, 26, 699, 8) {
+            assert!(
+                !out.false_alarm(),
+                "noise seed {noise}: {:?}",
+                out.first_alarm
+            );
+        }
+    }
+
+    /// A 2-flute tool under runout (200 and 75 N a tooth, 2 267 rpm) as the spindle sped
+    /// up by 10 % over 8 teeth: a pair in the noise passed as a hand-over's evidence and
+    /// armed the drop trip at 0.3 of the tooth; the period lost 33 % (the current loop's
+    /// lag, a time, moving force across the windows' boundaries): a breakage 0.25 s
+    /// before the tool was lost. The evidence counts only with the newest revolution as
+    /// long as the one before. Found at seeds 673-768.
+    #[test]
+    fn a_pair_in_a_speed_ramp_is_no_evidence() {
+        caught_with_no_false_alarm(Kind::Gone, 8, 678, 8);
+    }
+
+    /// An exit fading over five revolutions (3 flutes under runout, 200, 60 and 140 N a
+    /// tooth, 1 457 rpm, down milling, `R_r` 0.66): its first teeth lost 2.7 and 5.4
+    /// sigma_R, the light flute after them gained 1.4 by noise, and the pair (6.9 sigma_R,
+    /// a strong one) passed as a hand-over's evidence; the trip armed at 0.3 on the first
+    /// tooth's window passed as it lost its next 23 %. Where the tooth before the loss lost
+    /// too, a pair is evidence only if its gain takes half of both losses (a flute broken in
+    /// the window before hands both on: `a_flute_whose_cut_begins_in_the_window_before_the_loss_trips_there`).
+    /// Seed 908 normal 79, found at seeds 865-960 (their first run, with the hand-over at
+    /// 4.5 sigma).
+    #[test]
+    fn an_exits_first_teeth_and_a_noise_gain_are_no_evidence() {
+        no_alarm_over_noise(Kind::Normal, 79, 908, 8);
     }
 
     /// A flute broken a revolution after the window's one move of the cut (4 flutes, 3 712
@@ -1140,13 +1174,16 @@ mod held_out_tests {
     /// Break case `index` at draw seed `seed`, run with its own noise seed and the
     /// `seeds - 1` after it: each run's noise seed and outcome.
     fn breaks_over_noise(index: usize, seed: u64, seeds: u64) -> Vec<(u64, Outcome)> {
-        let drawn = draw_case(Kind::Break, index, seed)
-            .expect("a case")
-            .scenario
-            .seed;
+        outcomes_over_noise(Kind::Break, index, seed, seeds)
+    }
+
+    /// `kind` case `index` at draw seed `seed`, run with its own noise seed and the
+    /// `seeds - 1` after it: each noise seed and its outcome.
+    fn outcomes_over_noise(kind: Kind, index: usize, seed: u64, seeds: u64) -> Vec<(u64, Outcome)> {
+        let drawn = draw_case(kind, index, seed).expect("a case").scenario.seed;
         (0..seeds)
             .map(|k| {
-                let mut case = draw_case(Kind::Break, index, seed).expect("a case");
+                let mut case = draw_case(kind, index, seed).expect("a case");
                 case.scenario.seed = drawn.wrapping_add(k);
                 (case.scenario.seed, run_case(&case).expect("the case runs"))
             })
@@ -1311,11 +1348,14 @@ mod held_out_tests {
     /// the window before may lose), seed 46, case 61 and seed 99, case 59 (pairs of 4.6-5.2
     /// sigma_R, the evidence now from 4.5 where the loss's own record is not transient).
     /// Late in 16 of their 24 runs before, 9 after, 10 with the allowance for a sample's
-    /// jitter inside the period.
+    /// jitter inside the period, 11 since the evidence asks the newest revolution to be
+    /// as long as the one before (seed 99 case 59, noise seed 467323: 4 flutes at 3 263
+    /// rpm, a revolution of 184 samples, the allowance 3 of them against the pulses'
+    /// jitter).
     #[test]
     fn hand_overs_under_the_old_evidence_arm_the_trip() {
         let late = late_runs(&[(34, 45), (61, 46), (59, 99)]);
-        assert!(late <= 10, "{late} of 24 late");
+        assert!(late <= 11, "{late} of 24 late");
     }
 
     /// Flutes whose next pass lost past the trip's limit only with the period's last bin
