@@ -2345,19 +2345,39 @@ mod tests {
     /// records, the record `flagged` transient; and the events raised; the last valid
     /// estimate a narrow arc's (`narrow_arc`).
     fn armed_after(after: &[f32], flagged: Option<usize>) -> (AlarmState, usize) {
+        armed_after_faster(after, flagged, 0)
+    }
+
+    /// ... the spindle faster by `shorter` samples a tooth over the last 4 records.
+    fn armed_after_faster(
+        after: &[f32],
+        flagged: Option<usize>,
+        shorter: u32,
+    ) -> (AlarmState, usize) {
         let est = EstimatorConfig::default();
         let a = AlarmConfig::default().build(&est).unwrap();
         let mut st = narrow_arc(&a, 107.5);
         let mut events = 0;
-        for (i, &fx) in forces(3.0, 40, after).iter().enumerate() {
+        let f = forces(3.0, 40, after);
+        for (i, &fx) in f.iter().enumerate() {
             let status = if Some(i) == flagged {
                 Status::TRANSIENT
             } else {
                 Status::AMBIGUOUS
             };
-            events += usize::from(a.process(&mut st, &record(i, fx, status)).event.is_some());
+            let mut rec = record(i, fx, status);
+            if i + 4 >= f.len() {
+                faster(&mut rec, shorter);
+            }
+            events += usize::from(a.process(&mut st, &rec).event.is_some());
         }
         (st, events)
+    }
+
+    /// `rec` of a period `by` samples shorter than `record`'s, its speed to match.
+    fn faster(rec: &mut ToothRecord, by: u32) {
+        rec.samples -= by;
+        rec.rpm = 600.0 * 250.0 / rec.samples as f32;
     }
 
     /// The noise floor follows the force up: a cut whose force doubles (with its noise, as
@@ -2469,19 +2489,8 @@ mod tests {
     #[test]
     fn a_pair_in_a_speed_change_is_no_evidence() {
         let arming = |after: &[f32], shorter: u32| {
-            let a = AlarmConfig::default()
-                .build(&EstimatorConfig::default())
-                .unwrap();
-            let mut st = narrow_arc(&a, 107.5);
-            let f = forces(3.0, 40, after);
-            for (i, &fx) in f.iter().enumerate() {
-                let mut rec = record(i, fx, Status::AMBIGUOUS);
-                if i + 4 >= f.len() {
-                    rec.samples -= shorter;
-                    rec.rpm = 600.0 * 250.0 / rec.samples as f32;
-                }
-                assert!(a.process(&mut st, &rec).event.is_none(), "record {i}");
-            }
+            let (st, events) = armed_after_faster(after, None, shorter);
+            assert_eq!(events, 0, "{after:?} {shorter}");
             (st.trip_floor_n(), st.trip_share())
         };
         let pair = [0.0, -24.0, 24.0, 0.0, 0.0];
@@ -2998,8 +3007,7 @@ mod tests {
                 (rec.handover_z, rec.handover_n) = handover;
             }
             if i + 8 > at && i <= at {
-                rec.samples -= shorter;
-                rec.rpm = 600.0 * 250.0 / rec.samples as f32;
+                faster(&mut rec, shorter);
             }
             if let Some(e) = a.process(&mut st, &rec).event {
                 return Some((i, e.cause));
