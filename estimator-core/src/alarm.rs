@@ -736,6 +736,13 @@ const EVIDENCE_STRONG_SIGMAS: f32 = 6.0;
 /// more breaks of 23 040 at seeds 673-864 came past their revolution (the two traced: the
 /// tooth before had lost 2.2 and 2.4 by noise).
 const EVIDENCE_BEFORE_SIGMAS: f32 = 2.5;
+/// A pair's gain must stand above what an exit would leave the gaining tooth by more than
+/// this many sigma of `R` (`Alarms::handed_over`): an exit takes about the same share of
+/// every tooth's force, so there the next tooth loses the losing tooth's share of its own
+/// force, and on a light flute (runout) that loss hides in the noise (seed 968 normal 32:
+/// a heavy flute lost 5 sigma_R, the light one after it, at a quarter of its force,
+/// gained 0.4, 1.7 above the exit's share).
+const EVIDENCE_EXIT_SIGMAS: f32 = 2.5;
 /// The plain drop trip (no hand-over's evidence) is not armed where the newest two
 /// revolutions fell against the two three revolutions earlier by more than this many of
 /// that difference's noise: an exit fading over revolutions can pause for a revolution
@@ -1759,9 +1766,11 @@ impl Alarms {
     /// [`EVIDENCE_EACH_SIGMAS`] (`var`: E's variance before this tooth's `E` widens it): a
     /// flute that broke inside its period, its loss and the next flute's gain under the
     /// thresholds. The gain need only be one: where the arcs overlap, the next flute's
-    /// gain spreads over two periods, and an exit's next tooth loses more, never gains.
-    /// The pair must stand against two revolutions earlier too ([`EVIDENCE_BACK_SIGMAS`]).
-    /// Squares: no root.
+    /// gain spreads over two periods, and an exit's next tooth loses more, never gains; but
+    /// it must stand above the loss an exit's share would take from it
+    /// ([`EVIDENCE_EXIT_SIGMAS`], `Alarms::above_exit`), which on a light flute hides in
+    /// the noise. The pair must stand against two revolutions earlier too
+    /// ([`EVIDENCE_BACK_SIGMAS`]). Squares: no root.
     #[inline(always)]
     fn handed_over(&self, st: &AlarmState, r0: f32, var: f32, loss_steady: bool) -> bool {
         let var_r = 0.5 * var;
@@ -1789,7 +1798,23 @@ impl Alarms {
             && r1 * r1 > each
             && (!before_lost || r0 > -0.5 * (r1 + r2))
             && both * both > sigmas * sigmas * var_r
+            && self.above_exit(st, r0, r1, var_r)
             && self.stands_two_back(st, var_r)
+    }
+
+    /// Whether the pair's gain `r0` stands above what an exit would leave the gaining
+    /// tooth by [`EVIDENCE_EXIT_SIGMAS`] of `R` (`var_r`): `r0 + s F_next`, the loss `r1`
+    /// as a share `s = -r1 / F_lost` of the losing tooth's force a revolution earlier,
+    /// times `F_lost` (no division). A break hands the chip on: its gain is the loss, or a
+    /// good part of it where it spreads over two periods, far above. True where the
+    /// losing tooth's force was not positive (no share); false on NaN.
+    #[cold]
+    #[inline(never)]
+    fn above_exit(&self, st: &AlarmState, r0: f32, r1: f32, var_r: f32) -> bool {
+        let (then_lost, then_next) = (st.force(self.n + 1), st.force(self.n));
+        let above = r0 * then_lost - r1 * then_next;
+        let bound = EVIDENCE_EXIT_SIGMAS * then_lost;
+        then_lost <= 0.0 || above > 0.0 && above * above > bound * bound * var_r
     }
 
     /// The hand-over's pair against two revolutions earlier: see [`EVIDENCE_BACK_SIGMAS`]
@@ -2199,6 +2224,14 @@ mod tests {
     /// deterministic noise of `noise` N (uniform, +-sqrt(3) sigma), `revs` revolutions,
     /// then `after` (a per-tooth change from the steady level, tooth by tooth).
     fn forces(noise: f32, revs: usize, after: &[f32]) -> Vec<f32> {
+        forces_at(RUNOUT_30, noise, revs, after)
+    }
+
+    /// The steady levels of `forces`: flute 0 out by 30 %.
+    const RUNOUT_30: [f32; 4] = [130.0, 100.0, 100.0, 100.0];
+
+    /// `forces` with the flutes' steady `levels` [N].
+    fn forces_at(levels: [f32; 4], noise: f32, revs: usize, after: &[f32]) -> Vec<f32> {
         let mut x = 0x2545_f491u32;
         let mut rnd = || {
             x ^= x << 13;
@@ -2206,7 +2239,7 @@ mod tests {
             x ^= x << 5;
             (x as f32 / u32::MAX as f32 - 0.5) * 2.0 * 1.732 * noise
         };
-        let level = |k: usize| if k % 4 == 0 { 130.0 } else { 100.0 };
+        let level = |k: usize| levels[k % 4];
         let mut out: Vec<f32> = (0..4 * revs).map(|k| level(k) + rnd()).collect();
         for (j, d) in after.iter().enumerate() {
             let k = 4 * revs + j;
@@ -2354,11 +2387,21 @@ mod tests {
         flagged: Option<usize>,
         shorter: u32,
     ) -> (AlarmState, usize) {
+        armed_at(RUNOUT_30, after, flagged, shorter)
+    }
+
+    /// ... the flutes' steady forces at `levels`.
+    fn armed_at(
+        levels: [f32; 4],
+        after: &[f32],
+        flagged: Option<usize>,
+        shorter: u32,
+    ) -> (AlarmState, usize) {
         let est = EstimatorConfig::default();
         let a = AlarmConfig::default().build(&est).unwrap();
-        let mut st = narrow_arc(&a, 107.5);
+        let mut st = narrow_arc(&a, levels.iter().sum::<f32>() / 4.0);
         let mut events = 0;
-        let f = forces(3.0, 40, after);
+        let f = forces_at(levels, 3.0, 40, after);
         for (i, &fx) in f.iter().enumerate() {
             let status = if Some(i) == flagged {
                 Status::TRANSIENT
@@ -2475,6 +2518,40 @@ mod tests {
         assert!(lower(2.0, 12.0));
         assert!(!lower(3.0, 12.0));
         assert!(lower(3.0, 30.0));
+    }
+
+    /// A pair's gain must stand above what an exit would leave the gaining tooth: an exit
+    /// takes about the same share from every flute, and on a light flute (runout) that
+    /// share hides in the noise (seed 968 normal 32). A heavy flute (300 N) loses 6 sigma_R
+    /// and the light one after it (30 N: the exit's share there is a loss of 0.6) gains
+    /// 0.5 or 1.6 (1.1 and 2.2 above the exit's share, in the steady cut's sigma_R; the
+    /// loss widens the one it is judged in by about a tenth): no evidence; 4 is. After a
+    /// flute of the same force (the exit's share a loss of 6) a gain of 0.5 is evidence.
+    /// (The pairs exactly so: the steady forces' noise taken out of them.)
+    #[test]
+    fn a_light_flutes_gain_must_stand_above_an_exits_share() {
+        let arming = |levels: [f32; 4], gain: f32| {
+            let steady = forces_at(levels, 3.0, 40, &[0.0; 5]);
+            let (st, _) = armed_at(levels, &[0.0; 5], None, 0);
+            let sigma_r = libm::sqrtf(0.5 * st.e_var);
+            let noise = |k: usize| steady[160 + k] - steady[156 + k];
+            let after = [
+                0.0,
+                -6.0 * sigma_r - noise(1),
+                gain * sigma_r - noise(2),
+                0.0,
+                0.0,
+            ];
+            let (st, events) = armed_at(levels, &after, None, 0);
+            assert_eq!(events, 0, "{levels:?} {gain}");
+            assert!(st.trip_floor_n().is_finite(), "{levels:?} {gain}");
+            st.trip_share() == EVIDENCE_SHARE
+        };
+        let light = [100.0, 300.0, 30.0, 100.0];
+        assert!(!arming(light, 0.5));
+        assert!(!arming(light, 1.6));
+        assert!(arming(light, 4.0));
+        assert!(arming([100.0, 300.0, 300.0, 100.0], 0.5));
     }
 
     /// A hand-over's evidence counts only at a steady speed: the current loop's lag, a
