@@ -1933,6 +1933,8 @@ impl Alarms {
     }
 
     /// ... to `1 / per` and two samples.
+    #[cold]
+    #[inline(never)]
     fn lengths_within(&self, st: &AlarmState, back: usize, revs: usize, per: u32) -> bool {
         let len = |from: usize| -> u32 {
             (from..from + revs * self.n)
