@@ -1079,9 +1079,6 @@ impl Alarms {
         st.exceed_neg <<= 1;
         probe.mark(Stage::AlarmHistory);
 
-        // The first alarm raised: cause, value, threshold (the event, with its copy of the
-        // record, is made once at the end).
-        let raised: Option<(Cause, f32, f32)> = None;
         // Two teeth in a row fallen to a fraction of their force one revolution earlier:
         // nothing cuts any more (a lost tool, or the last teeth of an exit), not a flute
         // lost (its chip goes to the next tooth). With unequal flutes (runout) the drops
@@ -1096,7 +1093,10 @@ impl Alarms {
         if rec.status.contains(Status::NOT_CUTTING) && !self.gone_candidate(st, rec, two_dead) {
             st.held = None;
         }
-        let raised_cell = core::cell::Cell::new(raised);
+        // The first alarm raised: cause, value, threshold (the event, with its copy of the
+        // record, is made once at the end). In a cell: the breakage rules' speed test
+        // takes back what they raised, while `raise` still holds it.
+        let raised_cell = core::cell::Cell::new(None::<(Cause, f32, f32)>);
         let raise = |cause, value, threshold| {
             if raised_cell.get().is_none() && !(cause == Cause::Breakage && collapsed) {
                 raised_cell.set(Some((cause, value, threshold)));
@@ -1926,8 +1926,7 @@ impl Alarms {
     /// loop's lag is a time, and its share of a period, which moves force across the
     /// window's boundaries, follows the speed. Over a speed ramp the force moves one way at
     /// each boundary, a little a revolution: past the threshold over several.
-    #[cold]
-    #[inline(never)]
+    #[inline(always)]
     fn same_speed(&self, st: &AlarmState, back: usize, revs: usize) -> bool {
         self.lengths_within(st, back, revs, 100)
     }
