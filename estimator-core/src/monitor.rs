@@ -559,6 +559,8 @@ impl Monitor {
         self.handover
             .sample(&mut st.hand, p.as_ref().map(|p| p.tooth), bin, x[4]);
         if let Some(p) = p.as_mut() {
+            let off = self.boundary.boundary_off(&st.win);
+            self.handover.period_start(&mut st.hand, off);
             self.handover.period_len(&mut st.hand, p.samples);
             if self.boundary.take_moved(&mut st.win) {
                 self.moved(st, p);

@@ -214,6 +214,18 @@ impl Window {
         st.bin_step = ((PROFILE_BINS as u32) << 16) / len.max(1);
     }
 
+    /// How far the boundary that opened the open period lies from the pulses' tracked
+    /// times [samples]: at the pulse (phase 0) its jitter, which the tracker takes only a
+    /// quarter of; a placed boundary follows the tracked times (0).
+    #[inline(always)]
+    pub fn boundary_off(&self, st: &WindowState) -> f32 {
+        if st.phase == 0 {
+            -st.offset
+        } else {
+            0.0
+        }
+    }
+
     /// Whether the period closing now is the first under a moved boundary (then cleared).
     #[inline(always)]
     pub fn take_moved(&self, st: &mut WindowState) -> bool {
@@ -320,6 +332,35 @@ mod tests {
         let pulses: Vec<usize> = (0..50).map(|k| 13 + k * 97 + (k * 7) % 3).collect();
         assert_eq!(fired(&w, &mut st, &pulses, 5000), pulses);
         assert!(!w.take_moved(&mut st));
+    }
+
+    /// At the pulse, the boundary lies off the pulses' tracked times by the part of a
+    /// pulse's lateness the tracker does not take (`1 - TRACK_ALPHA` of it, once the
+    /// interval has settled); a placed boundary follows the tracked times.
+    #[test]
+    fn the_boundary_at_the_pulse_reports_how_far_it_lies_off_the_track() {
+        let w = window(1);
+        for (phase, late) in [(0u16, 3usize), (0, 0), (0x4000, 3)] {
+            let mut st = WindowState {
+                phase,
+                ..WindowState::default()
+            };
+            let mut pulses: Vec<usize> = (0..60).map(|k| 10 + k * 90).collect();
+            if let Some(p) = pulses.last_mut() {
+                *p += late;
+            }
+            fired(&w, &mut st, &pulses, 60 * 90 + 10);
+            let want = if phase == 0 {
+                late as f32 * (1.0 - TRACK_ALPHA)
+            } else {
+                0.0
+            };
+            assert!(
+                (w.boundary_off(&st) - want).abs() < 1e-3,
+                "{phase} {late}: {}",
+                w.boundary_off(&st)
+            );
+        }
     }
 
     #[test]
