@@ -147,10 +147,9 @@ pub struct HandoverState {
     /// The open tooth's bin-0 mean a revolution earlier, and how far the open bin's
     /// (`cur_l`) lies from it. A shift of the bins by `JITTER_SAMPLES` (and `shift`)
     /// against that period moves a sum over the open period's first bins by the samples at
-    /// its two ends: where it starts (bin 0's level) and where it stops (the open bin's,
-    /// `edge`; within the shift's reach of the bin's start, the bin before's if further
-    /// from the start: a loss made at a steep edge stays until the shifted samples past it
-    /// come in). `jitter_bins * edge` is that
+    /// its two ends: where it starts (bin 0's level) and where it stops (the open bin's; at
+    /// the boundary between two bins, the one further from the start). `jitter_bins * edge`
+    /// is that
     /// loss, allowed for in the trip's limit inside the period: a light cut's steep chip
     /// edge there makes it a quarter of the tooth's force (seed 165, normal case 100); the
     /// whole period, at its close, is not moved by a shift.
@@ -286,17 +285,6 @@ impl Handover {
     #[cold]
     #[inline(never)]
     fn trip_inside_bin(&self, st: &mut HandoverState) {
-        // Within the shift's reach of the bin's start, a loss made at a steep edge in the
-        // bin before is still in the sum: that bin's level bounds it.
-        let bin = st.fold as usize;
-        let reach = JITTER_SAMPLES + st.shift;
-        if st.cnt.get(bin).is_some_and(|&c| c as f32 <= reach) {
-            let before = libm::fabsf(Self::level(st, bin.saturating_sub(1)) - st.start_l);
-            let jitter = st.jitter_bins * fmath::max(before, st.edge);
-            if st.run >= -(st.trip + jitter + st.deficit) * st.bin_len {
-                return;
-            }
-        }
         Self::tripped(st, -(st.deficit + st.run / st.bin_len));
         st.run_limit = f32::NEG_INFINITY;
     }
@@ -377,22 +365,17 @@ impl Handover {
     #[inline(always)]
     fn open_bin(st: &mut HandoverState, bin: usize) {
         st.run = 0.0;
-        st.cur_l = Self::level(st, bin);
+        st.cur_l = st
+            .last
+            .get(st.open as usize)
+            .and_then(|last| last.get(bin))
+            .copied()
+            .unwrap_or(0.0);
         if bin == 0 {
             st.start_l = st.cur_l;
         }
         st.edge = libm::fabsf(st.cur_l - st.start_l);
         Self::bin_limit(st);
-    }
-
-    /// The open tooth's mean in `bin` a revolution earlier (0 where there is none).
-    #[inline(always)]
-    fn level(st: &HandoverState, bin: usize) -> f32 {
-        st.last
-            .get(st.open as usize)
-            .and_then(|last| last.get(bin))
-            .copied()
-            .unwrap_or(0.0)
     }
 
     /// Arms the drop trip for the open period: it trips when the period's bins so far
@@ -1319,12 +1302,12 @@ mod tests {
         assert_eq!(period, k);
     }
 
-    /// The window at the pulse, a steep chip mid-period: each pulse lies up to two samples
-    /// off the pulses' tracked times (the encoder's jitter) and the chip with it, so that
-    /// the sum over a period's first bins swings from one revolution to the next by more
-    /// than a low share of the tooth's force and what a shift by `JITTER_SAMPLES` moves it
-    /// by (computed here from the bin means at the worst shift, under a bin), while the
-    /// whole period keeps its force. Told how far each boundary lay off (the window stage
+    /// The window at the pulse, a down-milling chip (thickest at its steep entry)
+    /// mid-period: each pulse lies up to two samples off the pulses' tracked times (the
+    /// encoder's jitter) and the chip with it, so that the sum over a period's first bins
+    /// swings from one revolution to the next by more than a low share of the tooth's force
+    /// and what a shift by `JITTER_SAMPLES` moves it by (computed here from the bin means at
+    /// the worst shift, under a bin), while the whole period keeps its force. Told how far each boundary lay off (the window stage
     /// knows the tracked times), the trip allows for the shift and does not fire; not told,
     /// it does. A flute broken there still trips when it comes round.
     #[test]
@@ -1335,10 +1318,14 @@ mod tests {
         const SHORT: usize = 24;
         const HIGH: f32 = 10.0;
         const BASE: f32 = 0.2;
-        // The chip at `x` samples from its entry: steep up, flat, down (the helix's edges
-        // take a few samples).
-        const RAMP: f32 = 4.0;
-        let chip = |x: f32| HIGH * (x / RAMP).min((SHORT as f32 - x) / RAMP).clamp(0.0, 1.0);
+        // The chip at `x` samples from its entry: up in a sample, thinning out.
+        let chip = |x: f32| {
+            if (0.0..SHORT as f32).contains(&x) {
+                HIGH * (1.0 - x / SHORT as f32)
+            } else {
+                0.0
+            }
+        };
         let n = N as usize;
         let mut noise = Noise(0x2468_ace1, 0.05);
         let mut jitter = Noise(0x1357_9bdf, 1.5);
@@ -1364,9 +1351,9 @@ mod tests {
         // In sums of bin means: the tooth's content, and the swing of the first bins at
         // the worst shift, the rising edge moved by `worst_shift`.
         let bin = (LONG / BINS) as f32;
-        let content = ((SHORT as f32 - RAMP) * HIGH + LONG as f32 * BASE) / bin;
+        let content = (0.5 * SHORT as f32 * HIGH + LONG as f32 * BASE) / bin;
         let swing = worst_shift * HIGH / bin;
-        let share = 0.08;
+        let share = 0.1;
         assert!(
             swing > (share * content + JITTER_SAMPLES * HIGH / bin) * 1.2,
             "the swing {swing} would not trip a limit of {share} anyway"
