@@ -1172,8 +1172,7 @@ mod held_out_tests {
     /// exit. The watch now runs 3N+2 records. Found at seeds 385-432.
     #[test]
     fn a_flute_broken_in_the_revolution_after_a_move_is_caught() {
-        let revs = latencies_over_noise(72, 414, 8);
-        assert!(revs.iter().all(|r| r.is_some_and(|r| r < 2.0)), "{revs:?}");
+        all_caught_within(72, 414, 2.0);
     }
 
     /// A flute of a 4-flute tool broken in a wide arc (down milling, 3 529 rpm, tooth
@@ -1251,6 +1250,16 @@ mod held_out_tests {
             .collect()
     }
 
+    /// Break case `index` at draw seed `seed`, over 8 noise seeds: every run caught within
+    /// `revs` revolutions of the damage.
+    fn all_caught_within(index: usize, seed: u64, revs: f64) {
+        let got = latencies_over_noise(index, seed, 8);
+        assert!(
+            got.iter().all(|r| r.is_some_and(|r| r < revs)),
+            "case {index} at seed {seed}: {got:?}"
+        );
+    }
+
     /// Two breaks whose chips settle over revolutions (4 flutes under runout: each chip is
     /// cut from the surface every flute before left, so the other flutes' chips change
     /// over a few passes after a break), each revolution's change under every threshold:
@@ -1260,11 +1269,7 @@ mod held_out_tests {
     #[test]
     fn a_break_whose_chips_settle_over_revolutions_is_caught() {
         for (index, seed) in [(59, 99), (102, 113)] {
-            let revs = latencies_over_noise(index, seed, 8);
-            assert!(
-                revs.iter().all(|r| r.is_some_and(|r| r < 2.0)),
-                "case {index} at seed {seed}: {revs:?}"
-            );
+            all_caught_within(index, seed, 2.0);
         }
     }
 
@@ -1353,6 +1358,36 @@ mod held_out_tests {
     #[test]
     fn a_strong_hand_over_arms_the_trip_though_the_window_before_lost() {
         all_within_a_revolution(&[(0, 20), (57, 69)]);
+    }
+
+    /// A 4-flute tool in down milling, R_r 1.54, under runout (0.05 mm on one flute against
+    /// a 0.13 mm feed per tooth): seed 1543, case 101. The broken flute's window lost 430 N
+    /// for good and the next flute's cut, two windows wide, took the chip, 230 and 200 N in
+    /// each: no rule decided it in the 70 revolutions to the exit. Two neighbouring teeth's
+    /// gains together complete the redistribution: caught within 3 revolutions in all 8
+    /// noise seeds.
+    #[test]
+    fn a_gain_split_between_two_windows_completes_the_loss() {
+        all_caught_within(101, 1543, 3.0);
+    }
+
+    /// A 2-flute tool in down milling, R_r 0.1, 3 739 rpm, 50 N: seed 1199, case 111. The
+    /// window was still at the pulse, halving each flute's cut between two windows: the
+    /// broken flute's loss and the next flute's gain fell in the same averages. The break's
+    /// own transient records restarted the window's profile, which moved the boundary 14
+    /// revolutions later, and the break was caught then. A profile half learned goes on
+    /// through a few transient records: caught within a revolution in 7 of 8 noise seeds,
+    /// and 5.7 revolutions on in the other (there the profile, restarted by a transient
+    /// record before it was half learned, began 5.5 revolutions before the break and moved
+    /// the boundary 8.5 after it).
+    #[test]
+    fn a_breaks_own_transients_do_not_restart_the_windows_profile() {
+        let revs = latencies_over_noise(111, 1199, 8);
+        let within = revs.iter().filter(|r| r.is_some_and(|r| r <= 1.0)).count();
+        assert!(
+            within >= 7 && revs.iter().all(|r| r.is_some_and(|r| r < 8.0)),
+            "{revs:?}"
+        );
     }
 
     /// Late runs over the cases' 8 noise seeds each.
