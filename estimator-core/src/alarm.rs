@@ -65,7 +65,8 @@
 //!     in its cut is certain only when it comes round; its period's samples so far lose
 //!     more than [`TRIP_SHARE`] (half) of the tooth's force one revolution earlier (and
 //!     6 sigma_R) before the flute reaches its break angle again. Armed after a record
-//!     out of a steady cut (not transient, the noise figure settled, no alarm latched),
+//!     out of a steady cut (not transient, nor two of the last `N`; the noise figure
+//!     settled, no alarm latched),
 //!     with no run of the newest `j <= N` teeth that lost more than `3 sqrt(j)
 //!     sigma_R` together (the teeth armed with their own a revolution earlier: after the
 //!     history was forgotten, from the `N + 1`-th record on; an exit's teeth all lose, the
@@ -1403,6 +1404,12 @@ impl Alarms {
                     || self.no_recent_loss(st, TRIP_QUIET_SIGMAS * TRIP_QUIET_SIGMAS * var_r)
                         && !(st.all_armed(self.armed_fade)
                             && self.fell(st, var, 0, 2, TRIP_FALL_SIGMAS))
+                        // (Nor with two of the last N records flagged transient: a cut
+                        // still changing. Seed 1723 normal 113: an exit's tail of 150-200 N
+                        // a tooth, flagged on and off for revolutions, ended inside one
+                        // period past the share and 6 sigma_R. The evidence's arming
+                        // above is not affected.)
+                        && (!st.unflagged & (u32::MAX >> (32 - n.clamp(1, 31)))).count_ones() < 2
                 {
                     // (After a move the hand-over stage walks the periods since; and no
                     // credit: two revolutions are not armed.)

@@ -1059,6 +1059,16 @@ mod held_out_tests {
     /// period to come; the share now covers what an exit beginning there could take (one
     /// feed's travel past what the newest tooth allows: 0.40-0.49 here). Seed 417 normal 98, seed 489 normal 21, seed
     /// 537 normal 70, seed 627 normal 60: found at seeds 385-432, 481-576 and 577-672.
+    /// An exit's tail (4 flutes, up milling, `R_r` 1.17, 1 670 rpm: seed 1723, normal case
+    /// 113): 150-200 N a tooth for revolutions, its records flagged transient on and off,
+    /// ending inside one period. The plain trip, armed on a settling record two after two
+    /// transient ones, passed at the end: a breakage. Not armed with two of the last N
+    /// records flagged. Found at seeds 1633-1728.
+    #[test]
+    fn an_exits_flagged_tail_arms_no_plain_trip() {
+        no_alarm_over_noise(Kind::Normal, 113, 1723, 8);
+    }
+
     #[test]
     fn an_exit_right_after_a_pair_trips_no_lower_than_its_share() {
         for (index, seed) in [(98, 417), (21, 489), (70, 537), (60, 627)] {
