@@ -855,6 +855,13 @@ impl AlarmState {
         self.head.wrapping_sub(1).wrapping_sub(k) & (HISTORY - 1)
     }
 
+    /// How many of the `count` records (1-31) from `skip` records back (0: the newest)
+    /// were flagged transient.
+    #[inline(always)]
+    fn flagged(&self, skip: u32, count: usize) -> u32 {
+        ((!self.unflagged >> skip) & (u32::MAX >> (32 - count.clamp(1, 31)))).count_ones()
+    }
+
     /// Whether every tooth of `mask` is armed; false for an empty mask (a rule that is
     /// off for this tool).
     #[inline(always)]
@@ -1248,8 +1255,7 @@ impl Alarms {
                     // at its own time (seed 276 normal 52).)
                     if prev2_steady
                         && (prev_steady
-                            || (!st.unflagged >> 2) & (u32::MAX >> (32 - (2 * n).min(30))) == 0
-                                && self.held_before_loss(st, var))
+                            || st.flagged(2, 2 * n) == 0 && self.held_before_loss(st, var))
                         && self.handed_over(st, r0, var, prev_steady)
                     {
                         st.handed = Some(st.tooth(1));
@@ -1409,7 +1415,7 @@ impl Alarms {
                         // a tooth, flagged on and off for revolutions, ended inside one
                         // period past the share and 6 sigma_R. The evidence's arming
                         // above is not affected.)
-                        && (!st.unflagged & (u32::MAX >> (32 - n.clamp(1, 31)))).count_ones() < 2
+                        && st.flagged(0, n) < 2
                 {
                     // (After a move the hand-over stage walks the periods since; and no
                     // credit: two revolutions are not armed.)

@@ -292,7 +292,7 @@ impl Window {
             return false;
         }
         st.periods += 1;
-        if st.periods < REVIEW_REVS * self.teeth.max(1) as u32 {
+        if st.periods < REVIEW_REVS * teeth {
             return false;
         }
         let mut r2 = [0.0f32; PROFILE_BINS];
