@@ -1439,11 +1439,18 @@ impl Alarms {
                         // The next tooth's loss a revolution ago, out of a steady cut: its
                         // period then is the reference now.
                         let lost = st.force(2 * n - 1) - st.force(n - 1);
-                        let credited = st.armed & self.armed_two_revs == self.armed_two_revs
+                        let two_revs = st.armed & self.armed_two_revs == self.armed_two_revs;
+                        let credited = two_revs
                             && (!st.unflagged).trailing_zeros() as usize >= 2 * n
                             && lost > EVIDENCE_EACH_SIGMAS * sigma_r;
-                        let floor =
-                            FIRST_TOOTH_SIGMAS * sigma_r - if credited { lost } else { 0.0 };
+                        // Where it gained instead, its reference now stands that high over
+                        // its own level: the floor rises by it (seed 2256 normal 48: a
+                        // tooth 2.3 sigma_R up on the last flat revolution of an exit, then
+                        // the exit's step).
+                        let raised = two_revs && -lost > EVIDENCE_EACH_SIGMAS * sigma_r;
+                        let floor = FIRST_TOOTH_SIGMAS * sigma_r
+                            - if credited { lost } else { 0.0 }
+                            - if raised { lost } else { 0.0 };
                         (
                             share,
                             crate::fmath::max(floor, EVIDENCE_MIN_SIGMAS * sigma_r),
@@ -2914,6 +2921,26 @@ mod tests {
         assert!(floor >= 0.95 * FIRST_TOOTH_SIGMAS * s, "{floor} {s}");
     }
 
+    /// ... and its gain a revolution ago (past 1.5 sigma_R) raises the floor by as much: the
+    /// trip's reference stands that high over the tooth's own level (seed 2256 normal 48:
+    /// a tooth 2.3 sigma_R up on the last flat revolution of an exit, then the exit's step
+    /// passed the trip against it). Under 1.5 sigma_R: noise, the plain floor.
+    #[test]
+    fn the_gain_the_next_tooth_took_raises_the_plain_floor() {
+        let arming = |gain: f32| {
+            let (st, events) = armed_after(&[0.0, gain, 0.0, 0.0, 0.0], None);
+            assert_eq!(events, 0, "{gain}");
+            (st.trip_floor_n(), libm::sqrtf(0.5 * st.e_var))
+        };
+        for gain in [12.0, 16.0] {
+            let (floor, s) = arming(gain);
+            let want = FIRST_TOOTH_SIGMAS * s + gain;
+            assert!((floor - want).abs() < 0.3 * s, "{gain}: {floor} vs {want}");
+        }
+        let (floor, s) = arming(4.0);
+        assert!((floor / s - FIRST_TOOTH_SIGMAS).abs() < 0.3, "{floor} {s}");
+    }
+
     /// The loss the handed tooth took a revolution ago counts toward its trip's floor
     /// (`4 sigma_R` less that loss, at least `2 sigma_R`): that period is the trip's
     /// reference, and a flute broken inside it left less there to lose. Not after a newest
@@ -3127,7 +3154,12 @@ mod tests {
     #[test]
     fn the_drop_trip_is_armed_out_of_a_steady_cut_and_not_in_an_exit() {
         let floor = trip_floor_after(&[]);
-        let expected = 6.0 * 3.0 * core::f32::consts::SQRT_2;
+        // (Plus the next tooth's gain a revolution ago where past 1.5 sigma_R: its
+        // reference stands that high.)
+        let sigma_r = 3.0 * core::f32::consts::SQRT_2;
+        let f = forces(3.0, 40, &[]);
+        let gain = f[156] - f[152];
+        let expected = 6.0 * sigma_r + if gain > 1.5 * sigma_r { gain } else { 0.0 };
         assert!(
             (floor - expected).abs() < 0.25 * expected,
             "{floor} vs {expected}"
