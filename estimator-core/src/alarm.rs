@@ -1449,8 +1449,7 @@ impl Alarms {
                         // the exit's step).
                         let raised = two_revs && -lost > EVIDENCE_EACH_SIGMAS * sigma_r;
                         let floor = FIRST_TOOTH_SIGMAS * sigma_r
-                            - if credited { lost } else { 0.0 }
-                            - if raised { lost } else { 0.0 };
+                            - if credited || raised { lost } else { 0.0 };
                         (
                             share,
                             crate::fmath::max(floor, EVIDENCE_MIN_SIGMAS * sigma_r),

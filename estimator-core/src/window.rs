@@ -31,8 +31,9 @@
 //! [`MOVE_SHARE`] of the profile's mean (squared resultants; hysteresis: a flat profile,
 //! flutes always engaged, never moves it). Any record that is not a steady cut restarts
 //! the profile, but for a few transient records (up to [`PAUSE_REVS`]) once half of it
-//! is learned, at the speed it began at, which it goes on through. The period in which the new delay takes over has an odd length: longer
-//! (past one and a half periods it counts as two teeth, as after a lost pulse) or, where
+//! is learned, at the speed it began at, which it goes on through. The period in which
+//! the new delay takes over has an odd length: longer (past one and a half periods it
+//! counts as two teeth, as after a lost pulse) or, where
 //! the new boundary comes less than half a period after the last, a glitch merged into
 //! the next period; [`crate::tooth::Timing`] flags both. The period in which the boundary moved
 //! is flagged [`Status::WINDOW_MOVED`]: it mixes two alignments, and the rules on the tooth
