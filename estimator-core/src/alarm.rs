@@ -104,8 +104,10 @@
 //!     rules above; as an exit fades, flutes of unequal runout leave at unequal times),
 //!     and the newest tooth lost under 2 sigma_R (an exit may begin right after a noise
 //!     pair; no matter after a pair past 6 sigma_R, which noise makes about once in
-//!     100 000 teeth), the trip is armed at 0.3 of the tooth and 4 sigma_R less the
-//!     loss already seen, at least 2 sigma_R: that pair happens by noise about once in
+//!     100 000 teeth, nor in the window before the handed tooth's where a cut spans more
+//!     than a pitch: there the broken flute's next cut begins, and the share covers the
+//!     exit that loss would show), the trip is armed at 0.3 of the tooth and 4 sigma_R
+//!     less the loss already seen, at least 2 sigma_R: that pair happens by noise about once in
 //!     10 000 teeth, and then this period must lose more (its reference, the period of
 //!     the loss, already lacks what the broken flute did not cut). The share is raised to
 //!     what an exit that begins in that period could take (one feed's travel past what
@@ -1385,9 +1387,14 @@ impl Alarms {
                 // (After the gain, the newest tooth must not have lost: an exit's
                 // first tooth right after a noise pair that passed as evidence. A strong
                 // pair is no noise an exit could follow, and the newest tooth's loss may
-                // be the broken flute's cut where it begins, in the window before.)
+                // be the broken flute's cut where it begins, in the window before. So it
+                // is where the cut spans more than a pitch (or no estimate tells) and the
+                // newest window is the one before the handed tooth's: seed 2352 break 45,
+                // 4 flutes, `R_r` 1.41, that window lost 25 % and the handed one 59 %; the
+                // share then covers an exit that took the newest tooth's loss.)
                 let kept = st.handed_strong
-                    || st.force(0) - st.force(n) >= -EVIDENCE_KEPT_SIGMAS * sigma_r;
+                    || st.force(0) - st.force(n) >= -EVIDENCE_KEPT_SIGMAS * sigma_r
+                    || n >= 3 && st.handed == Some(next as u8) && st.exit_wide > 0.0;
                 // The tooth before the handed one: where no boundary falls between cuts
                 // (arcs wider than a pitch), the broken flute's cut begins in its window,
                 // and there its next pass loses from the cut's first angles on.
@@ -1770,7 +1777,10 @@ impl Alarms {
     /// without one, the worst `R_r`), or the next flute's chip (a feed; more for a flute
     /// heavier than the revolution's mean) past what the newest tooth's loss allows
     /// (the bound it was checked against and `TRIP_QUIET_SIGMAS` of its own noise: 3 + 3
-    /// sigma_R for the plain trip, 2 + 3 after a hand-over's evidence; none after a strong
+    /// sigma_R for the plain trip, 2 + 3 after a hand-over's evidence, or the newest
+    /// tooth's loss + 3 where it lost more (in a wide cut, the window before the handed
+    /// tooth's): the exit it shows may be past the two feeds, and is as far as that loss
+    /// tells, not a feed at most; none after a strong
     /// pair, which does not check it), plus `TRIP_QUIET_SIGMAS sigma_R` of the next
     /// tooth's force one revolution earlier; at least [`TRIP_SHARE`], at most
     /// [`TRIP_MAX_SHARE`]. After a hand-over's `evidence`, at least [`EVIDENCE_SHARE`] and
@@ -1812,18 +1822,23 @@ impl Alarms {
             let wide = (span - self.est.tool.tooth_pitch_rad()) / span;
             st.exit_wide = crate::fmath::min(crate::fmath::max(wide, 0.0), 1.0);
         }
-        let (least, noise, checked) = if evidence {
-            let checked = (!st.handed_strong).then_some(EVIDENCE_KEPT_SIGMAS);
-            (EVIDENCE_SHARE, 0.0, checked)
+        let (least, noise, checked, under_way) = if evidence {
+            let lost = (st.force(self.n) - st.force(0)) / sigma_r;
+            let under_way = !st.handed_strong && lost > EVIDENCE_KEPT_SIGMAS;
+            let checked =
+                (!st.handed_strong).then_some(crate::fmath::max(EVIDENCE_KEPT_SIGMAS, lost));
+            (EVIDENCE_SHARE, 0.0, checked, under_way)
         } else {
             let before = st.force(self.n - 1);
             (
                 TRIP_SHARE,
                 TRIP_QUIET_SIGMAS * sigma_r / before,
                 Some(TRIP_QUIET_SIGMAS),
+                false,
             )
         };
-        let mut exit = st.exit_share;
+        // (An exit the newest tooth shows may be past the two feeds.)
+        let mut exit = if under_way { 1.0 } else { st.exit_share };
         if let Some(bound) = checked.filter(|_| rr >= 0.0 && exit + noise > least) {
             // The newest tooth did not lose past `bound` sigma_R (`no_recent_loss`, or
             // `kept` after a pair): an exit already under way took at most that and its
@@ -1831,7 +1846,12 @@ impl Alarms {
             // and one feed more by the next period's end.
             let hidden = (bound + TRIP_QUIET_SIGMAS) * sigma_r / st.force(self.n);
             let feed = tc_mm / self.est.tool.radius_mm;
-            let x = crate::fmath::min(crate::geometry::exit_travel(rr, hidden), feed);
+            let travel = crate::geometry::exit_travel(rr, hidden);
+            let x = if under_way {
+                travel
+            } else {
+                crate::fmath::min(travel, feed)
+            };
             // The next flute reaches past the newest one's by its own chip, `f_t + r_next -
             // r_newest` under runout: a heavy flute's is thicker, by about its force over
             // the revolution's mean (less the edge force's share; seed 1900 normal 32: the
@@ -3042,6 +3062,56 @@ mod tests {
         let one_feed = crate::geometry::exit_loss_share(rr, feed);
         assert!(one_feed > 0.5, "{one_feed}");
         assert!(share > one_feed, "{share}: {one_feed}");
+    }
+
+    /// Where a cut spans more than a pitch (its arc and the helix's lag over the depth), a
+    /// flute broken inside its period begins its next cut in the window before its own:
+    /// after the pair that window loses, and the handed tooth's period is armed all the
+    /// same, at what an exit that took that loss would take a feed further on (seed 2352
+    /// break 45: 4 flutes, `R_r` 1.41, the window before lost 25 %, the handed one 59 %,
+    /// 1.3 revolutions late when that loss disarmed the trip). Where the cut spans less (`R_r` 0.3 at the same depth: 0.80 +
+    /// 0.58 rad against `pi/2`), a window that loses after a pair is an exit's first tooth:
+    /// not armed.
+    #[test]
+    fn a_wide_cut_begins_in_the_window_before_the_handed_tooth() {
+        let (a, rr, feed) = wide_arc();
+        let arming = |rr: f32, newest: f32| {
+            let mut st = AlarmState::default();
+            let after = [0.0, -5.0, 5.0, 0.0, newest];
+            for (i, &fx) in forces(1.0, 40, &after).iter().enumerate() {
+                let rec = ToothRecord {
+                    rr,
+                    ..wide_record(i, fx)
+                };
+                assert!(a.process(&mut st, &rec).event.is_none(), "{rr}: record {i}");
+            }
+            (
+                st.trip_floor_n(),
+                st.trip_share(),
+                libm::sqrtf(0.5 * st.e_var),
+            )
+        };
+        // 8 N lost: past the evidence's 2 sigma_R and the plain walk's 3.
+        let (floor, share, sigma_r) = arming(rr, -8.0);
+        assert!(8.0 > 3.0 * sigma_r, "{sigma_r}");
+        assert!(floor.is_finite(), "{floor}");
+        // At least what the exit that took those 8 N (of tooth 0's 130) takes a feed on.
+        let shown = crate::geometry::exit_travel(rr, 8.0 / 130.0);
+        let least = crate::geometry::exit_loss_share(rr, shown + feed);
+        assert!(
+            share >= least && share >= EVIDENCE_SHARE,
+            "{share}: {least}"
+        );
+        // An exit that took more is further on.
+        let further = arming(rr, -10.0);
+        assert!(
+            further.0.is_finite() && further.1 > share,
+            "{further:?}: {share}"
+        );
+        let (floor, _, _) = arming(0.3, -8.0);
+        assert!(floor.is_infinite(), "{floor}");
+        // (Without the loss both are armed.)
+        assert!(arming(0.3, 0.0).0.is_finite());
     }
 
     /// The trip's share where an exit through a face could take more than half the next
