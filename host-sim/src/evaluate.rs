@@ -1421,6 +1421,18 @@ mod held_out_tests {
         no_alarm_over_noise(Kind::Normal, 111, 41, 8);
     }
 
+    /// An exit (4 flutes, down milling, runout of 27 um on one flute, 0.074 mm a tooth,
+    /// no estimate: the feed per tooth outside the coefficients' range): a pair in its
+    /// noise (115 N down, 61 up), then the next tooth 24 % down, which kept the window
+    /// before the handed tooth's from being armed lower, then one 1 sigma_R down; the
+    /// handed tooth's period, armed at 0.3 on the pair, lost 29 %. The loss voids the
+    /// evidence for the periods after it too. Found at seeds 2449-2544 (seed 2452 normal
+    /// 65; 8397e51 raised it too).
+    #[test]
+    fn an_exits_loss_after_a_pair_spends_the_evidence() {
+        no_alarm_over_noise(Kind::Normal, 65, 2452, 8);
+    }
+
     /// A flute of a 2-flute tool broken inside its period (down milling, R_r 1.53, a feed
     /// of 3.4 % of the radius, 3 712 rpm): its period lost part of its force and the next
     /// flute gained it, under every rule on the records. When it came round, the drop trip
