@@ -106,7 +106,8 @@
 //!     pair; no matter after a pair past 6 sigma_R, which noise makes about once in
 //!     100 000 teeth, nor in the window before the handed tooth's where a cut spans more
 //!     than a pitch: there the broken flute's next cut begins, and the share covers the
-//!     exit that loss would show), the trip is armed at 0.3 of the tooth and 4 sigma_R
+//!     exit that loss would show; a loss that keeps it from arming a period spends the
+//!     evidence, an exit having begun), the trip is armed at 0.3 of the tooth and 4 sigma_R
 //!     less the loss already seen, at least 2 sigma_R: that pair happens by noise about once in
 //!     10 000 teeth, and then this period must lose more (its reference, the period of
 //!     the loss, already lacks what the broken flute did not cut). The share is raised to
