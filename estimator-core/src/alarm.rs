@@ -107,9 +107,9 @@
 //!     100 000 teeth, nor in the window before the handed tooth's where a cut spans more
 //!     than a pitch: there the broken flute's next cut begins, and the share covers the
 //!     exit that loss would show; a loss that keeps it from arming a period spends the
-//!     evidence, an exit having begun), the trip is armed at 0.3 of the tooth and 4 sigma_R
-//!     less the loss already seen, at least 2 sigma_R: that pair happens by noise about once in
-//!     10 000 teeth, and then this period must lose more (its reference, the period of
+//!     evidence, an exit having begun), the trip is armed at 0.3 of the tooth and 4
+//!     sigma_R less the loss already seen, at least 2 sigma_R: that pair happens by noise
+//!     about once in 10 000 teeth, and then this period must lose more (its reference, the period of
 //!     the loss, already lacks what the broken flute did not cut). The share is raised to
 //!     what an exit that begins in that period could take (one feed's travel past what
 //!     the newest tooth allows, without the noise term): the pair tells of the teeth
@@ -1389,7 +1389,7 @@ impl Alarms {
                 // first tooth right after a noise pair that passed as evidence. A strong
                 // pair is no noise an exit could follow, and the newest tooth's loss may
                 // be the broken flute's cut where it begins, in the window before. So it
-                // is where the cut spans more than a pitch (or no estimate tells) and the
+                // is where the cut spans more than a pitch (known from an estimate) and the
                 // newest window is the one before the handed tooth's: seed 2352 break 45,
                 // 4 flutes, `R_r` 1.41, that window lost 25 % and the handed one 59 %; the
                 // share then covers an exit that took the newest tooth's loss.)
@@ -3092,9 +3092,9 @@ mod tests {
     /// after the pair that window loses, and the handed tooth's period is armed all the
     /// same, at what an exit that took that loss would take a feed further on (seed 2352
     /// break 45: 4 flutes, `R_r` 1.41, the window before lost 25 %, the handed one 59 %,
-    /// 1.3 revolutions late when that loss disarmed the trip). Where the cut spans less (`R_r` 0.3 at the same depth: 0.80 +
-    /// 0.58 rad against `pi/2`), a window that loses after a pair is an exit's first tooth:
-    /// not armed.
+    /// 1.3 revolutions late when that loss disarmed the trip). Where the cut spans less
+    /// (`R_r` 0.3 at the same depth: 0.80 + 0.58 rad against `pi/2`), a window that loses
+    /// after a pair is an exit's first tooth: not armed.
     #[test]
     fn a_wide_cut_begins_in_the_window_before_the_handed_tooth() {
         let (a, rr, feed) = wide_arc();
