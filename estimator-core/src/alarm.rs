@@ -1385,6 +1385,11 @@ impl Alarms {
                 let var_r = 0.5 * var;
                 let sigma_r = libm::sqrtf(var_r);
                 let next = (rec.tooth as usize + 1) % n.max(1);
+                // The tooth before the handed one: where no boundary falls between cuts
+                // (arcs wider than a pitch), the broken flute's cut begins in its window,
+                // and there its next pass loses from the cut's first angles on.
+                let before_handed = n >= 3 && st.handed == Some(((next + 1) % n) as u8);
+                let handed_next = st.handed == Some(next as u8);
                 // (After the gain, the newest tooth must not have lost: an exit's
                 // first tooth right after a noise pair that passed as evidence. A strong
                 // pair is no noise an exit could follow, and the newest tooth's loss may
@@ -1395,20 +1400,16 @@ impl Alarms {
                 // share then covers an exit that took the newest tooth's loss.)
                 let kept = st.handed_strong
                     || st.force(0) - st.force(n) >= -EVIDENCE_KEPT_SIGMAS * sigma_r
-                    || n >= 3 && st.handed == Some(next as u8) && st.exit_wide > 0.0;
-                // The tooth before the handed one: where no boundary falls between cuts
-                // (arcs wider than a pitch), the broken flute's cut begins in its window,
-                // and there its next pass loses from the cut's first angles on.
-                let before_handed = n >= 3 && st.handed == Some(((next + 1) % n) as u8);
-                let handed_next = st.handed == Some(next as u8);
+                    || n >= 3 && handed_next && st.exit_wide > 0.0;
+                let pending = before_handed || handed_next;
                 // (The newest revolution as long as the one before: in a speed ramp the
                 // current loop's lag, a time, moves force across the windows' boundaries,
                 // and a pair in the noise is no rarer (seed 678 gone 8: 10 % faster over
                 // 8 teeth of a 2-flute tool; the period armed at 0.3 lost 33 %). Not the
                 // two revolutions before too: a lost pulse's long record there would keep
                 // the evidence out for two revolutions, and 5 breaks of seeds 673-864 late.)
-                let evidence = (before_handed || handed_next) && kept && self.same_speed(st, n, 1);
-                if (before_handed || handed_next) && !kept {
+                let evidence = pending && kept && self.same_speed(st, n, 1);
+                if pending && !kept {
                     // The loss that voids the evidence voids it for the period after too:
                     // an exit has begun (seed 2452 normal 65: a pair in an exit's noise, the
                     // next tooth 24 % down, the one after 1 sigma_R, and the handed tooth's
@@ -1825,8 +1826,8 @@ impl Alarms {
             // beta`), is wider than a pitch, each window holds the end of one flute's cut
             // and the start of the next one's, a feed further on: about this share of it.
             let ra = st.held.map_or(0.0, |(_, ra)| ra);
-            let span = libm::acosf(crate::fmath::min(crate::fmath::max(1.0 - rr, -1.0), 1.0))
-                + ra * self.tan_helix;
+            let rr_arc = crate::fmath::min(crate::fmath::max(rr, 0.0), crate::geometry::RR_MAX);
+            let span = crate::geometry::engaged_arc_rad(rr_arc) + ra * self.tan_helix;
             let wide = (span - self.est.tool.tooth_pitch_rad()) / span;
             st.exit_wide = crate::fmath::min(crate::fmath::max(wide, 0.0), 1.0);
         }
