@@ -118,16 +118,8 @@
 //!     tooth's is armed at 0.3 and 4 sigma_R too (3 flutes or more): where arcs are wider
 //!     than a pitch no boundary falls between cuts, the broken flute's cut begins in the
 //!     window before the one that lost most, and so does its next pass, and the loss seen
-//!     there is the newest tooth's loss that a strong pair lets pass. In the revolution
-//!     after a moved window, where the records' history crosses the move, the pair is
-//!     taken from the hand-over stage's re-cut profiles (each tooth's first period since
-//!     the move against its profile): the loss and the gain as above, or, after the odd
-//!     period (mixed alignments, its loss unmeasured), the gain alone past 4.5 sigma_R
-//!     (an exit never gains); the periods since the move as long as as many before it;
-//!     its noise figure from the revolution mean before the move (the gaining tooth's own
-//!     force would widen it). Past three times the threshold of `E` (its noise the gain's
-//!     own, `R`'s, where it is alone) it raises at once, as `E` does. The monitor passes
-//!     the trip only while the feed speed holds (a feed hold thins every chip at once).
+//!     there is the newest tooth's loss that a strong pair lets pass. The monitor passes
+//!     it only while the feed speed holds (a feed hold thins every chip at once).
 //!     The trip latches the output at once (the event keeps that sample); the records
 //!     after it name the cause: a rule that raises on them, else after
 //!     [`TRIP_NAMED_WITHIN`] records a lost tool if the last two teeth collapsed, a
@@ -590,11 +582,6 @@ pub struct AlarmState {
     handed_loss_n: f32,
     /// ... the pair beyond [`EVIDENCE_STRONG_SIGMAS`].
     handed_strong: bool,
-    /// The last record's change from its re-cut profile as a watched force [N] (NaN: none;
-    /// `-INFINITY`: the moved window's odd period, whose loss is not measured).
-    recut_last_n: f32,
-    /// `handed` came from re-cut profiles (`Alarms::handed_after_move`).
-    handed_recut: bool,
 }
 
 /// A drop trip that latched the output (see [`Alarms::trip`]).
@@ -655,8 +642,6 @@ impl Default for AlarmState {
             handed: None,
             handed_loss_n: 0.0,
             handed_strong: false,
-            recut_last_n: f32::NAN,
-            handed_recut: false,
         }
     }
 }
@@ -999,7 +984,7 @@ impl Alarms {
     /// Feeds one record.
     #[inline(always)]
     pub fn process(&self, st: &mut AlarmState, rec: &ToothRecord) -> AlarmOutput {
-        self.process_with(st, rec, None, f32::NAN, &mut NoProbe)
+        self.process_with(st, rec, None, &mut NoProbe)
     }
 
     /// [`Self::process`], telling `probe` where each stage ends (for the instruction-count
@@ -1011,7 +996,7 @@ impl Alarms {
         rec: &ToothRecord,
         probe: &mut P,
     ) -> AlarmOutput {
-        self.process_with(st, rec, None, f32::NAN, probe)
+        self.process_with(st, rec, None, probe)
     }
 
     /// Never inlined: one copy serves `process` and `Pipeline::process`.
@@ -1019,15 +1004,12 @@ impl Alarms {
     /// `model_n`: eq. 7's `[F_ax, F_at]` at `rec`'s own estimate (`R_r`, `R_a`, filtered
     /// `t_c`), when the caller has it (the pipeline: the estimator computed it); used only
     /// for a valid record, where it is exactly what `model_signal` would recompute.
-    /// `recut_n`: `rec`'s change of tangential force from its tooth's profile re-cut at a
-    /// moved window ([`crate::handover::HandoverState::recut_change_n`]; NaN: none).
     #[inline(never)]
     pub(crate) fn process_with<P: Probe>(
         &self,
         st: &mut AlarmState,
         rec: &ToothRecord,
         model_n: Option<[f32; 2]>,
-        recut_n: f32,
         probe: &mut P,
     ) -> AlarmOutput {
         let n = self.n;
@@ -1298,7 +1280,6 @@ impl Alarms {
                         && !self.fell_before_loss(st, var, prev_steady)
                     {
                         st.handed = Some(st.tooth(1));
-                        st.handed_recut = false;
                         st.handed_loss_n = st.force(n + 1) - st.force(1);
                         let pair = r0 + st.handed_loss_n;
                         st.handed_strong = pair * pair
@@ -1390,32 +1371,14 @@ impl Alarms {
         // teeth all lose).
         st.trip_floor_n = f32::INFINITY;
         st.trip_quiet_n = f32::INFINITY;
+        let noise = self.decision_var(st, rev_mean.unwrap_or(f));
         // Armed from the first tooth that has its own a revolution earlier (not only with
         // two revolutions armed): a flute broken just after the history was forgotten (a
         // lost pulse) would otherwise be caught only past a revolution. In the revolution
         // after a moved window, from the first record: the hand-over stage's re-cut
         // profiles are the reference, and it checks the periods since for a loss.
-        let since_move = (!st.armed).trailing_zeros() as usize;
-        let fresh = st.realigned && since_move <= n;
+        let fresh = st.realigned && (!st.armed).trailing_zeros() as usize <= n;
         st.realigned = fresh;
-        // (The revolution before the move where the newest has none: a tooth's own force,
-        // the gain of a hand-over, would widen the noise it is judged against.)
-        let level = match rev_mean {
-            Some(m) => m,
-            None if fresh => {
-                let m = st.hist_rev.get(st.slot(since_move + 1)).copied();
-                m.filter(|&m| m > 0.0).unwrap_or(f)
-            }
-            None => f,
-        };
-        let noise = self.decision_var(st, level);
-        // The record before's change from its re-cut profile (`handed_after_move` keeps
-        // this one's); the odd period's is not measured.
-        let odd = rec.status.contains(Status::WINDOW_MOVED) && fresh;
-        let before_recut = core::mem::replace(
-            &mut st.recut_last_n,
-            if odd { f32::NEG_INFINITY } else { f32::NAN },
-        );
         if self.cfg.breakage.enabled
             && deciding
             && st.latched.is_none()
@@ -1427,12 +1390,6 @@ impl Alarms {
                 let var_r = 0.5 * var;
                 let sigma_r = libm::sqrtf(var_r);
                 let next = (rec.tooth as usize + 1) % n.max(1);
-                if fresh {
-                    let (changes, figures) = ((before_recut, recut_n), (var_r, level));
-                    if let Some((e, t)) = self.handed_after_move(st, rec, f, changes, figures) {
-                        raise(Cause::Breakage, e, t);
-                    }
-                }
                 // The tooth before the handed one: where no boundary falls between cuts
                 // (arcs wider than a pitch), the broken flute's cut begins in its window,
                 // and there its next pass loses from the cut's first angles on.
@@ -1456,13 +1413,7 @@ impl Alarms {
                 // 8 teeth of a 2-flute tool; the period armed at 0.3 lost 33 %). Not the
                 // two revolutions before too: a lost pulse's long record there would keep
                 // the evidence out for two revolutions, and 5 breaks of seeds 673-864 late.)
-                let evidence = pending
-                    && kept
-                    && if st.handed_recut {
-                        self.same_speed_across_move(st)
-                    } else {
-                        self.same_speed(st, n, 1)
-                    };
+                let evidence = pending && kept && self.same_speed(st, n, 1);
                 if pending && !kept {
                     // The loss that voids the evidence voids it for the period after too:
                     // an exit has begun (seed 2452 normal 65: a pair in an exit's noise, the
@@ -1974,87 +1925,6 @@ impl Alarms {
             && both * both > sigmas * sigmas * var_r
             && self.above_exit(st, r0, r1, var_r)
             && self.stands_two_back(st, var_r)
-    }
-
-    /// In the first revolution after a moved window, where the alarm's history crosses
-    /// the move: a hand-over seen on the hand-over stage's re-cut profiles. The newest
-    /// record gained from its profile, and the one before lost (as [`Self::handed_over`]'s
-    /// pair, `recut_last_n`); or that one was the odd period, whose loss is unmeasured,
-    /// and the gain alone passes [`EVIDENCE_SIGMAS`]: an exit never gains, and a flute
-    /// broken in the odd period hands its chip to the next one's first period (seed 2459
-    /// break 73, 4 flutes: 40 % up, then the broken flute's period armed at the plain
-    /// share tripped a sample past its revolution). `(value, threshold)` where it raises
-    /// a breakage at once (`level`: the revolution mean where there is no estimate).
-    #[cold]
-    #[inline(never)]
-    fn handed_after_move(
-        &self,
-        st: &mut AlarmState,
-        rec: &ToothRecord,
-        f: f32,
-        (r1, recut_n): (f32, f32),
-        (var_r, level): (f32, f32),
-    ) -> Option<(f32, f32)> {
-        // As a change of the watched force: the tangential change scaled by the record's
-        // ratio (the chip's feed force changes with its tangential force).
-        let r0 = if rec.f2_n > 0.0 {
-            recut_n * f / rec.f2_n
-        } else {
-            f32::NAN
-        };
-        st.recut_last_n = r0;
-        let odd = r1 == f32::NEG_INFINITY;
-        let both = if odd { r0 } else { r0 - r1 };
-        let each = EVIDENCE_EACH_SIGMAS * EVIDENCE_EACH_SIGMAS * var_r;
-        // An exit's share of the gaining tooth, as `above_exit` takes it: the loss's share
-        // of its profile (its force less the change) times the gaining tooth's.
-        let above = if odd {
-            r0
-        } else {
-            let lost_then = st.force(1) - r1;
-            r0 + (-r1 / lost_then) * (f - r0)
-        };
-        let pair = r0 > 0.0
-            && (odd || r1 < 0.0 && r1 * r1 > each)
-            && both * both > EVIDENCE_SIGMAS * EVIDENCE_SIGMAS * var_r
-            && above > 0.0
-            && above * above > EVIDENCE_EXIT_SIGMAS * EVIDENCE_EXIT_SIGMAS * var_r;
-        if pair && self.same_speed_across_move(st) {
-            let n = self.n.max(1);
-            st.handed = Some(((rec.tooth as usize + n - 1) % n) as u8);
-            st.handed_loss_n = if odd { 0.0 } else { -r1 };
-            // (Strong: the newest tooth's change a revolution back, which `kept` and the
-            // share check for an exit begun after the pair, crosses the move.)
-            st.handed_strong = true;
-            st.handed_recut = true;
-            // As `E` three times past its threshold it raises: the pair's change is the
-            // first difference's, the gain alone after the odd period is `R`'s (its noise).
-            let expected = match st.held {
-                Some((rr, ra)) => self.model_signal(rr, ra, rec.tc_mm),
-                None => level,
-            };
-            let var_e = if odd { var_r } else { 2.0 * var_r };
-            let floor = E_SIGMAS * libm::sqrtf(var_e);
-            let threshold = crate::fmath::max(self.cfg.breakage.threshold_rel * expected, floor);
-            return (both > SINGLE_EXCEEDANCE * threshold).then_some((both, threshold));
-        }
-        None
-    }
-
-    /// `same_speed` for the periods since a moved window (`k` of them, the newest armed in
-    /// a row): the newest `min(k, N)` as long as as many before the odd period.
-    #[cold]
-    #[inline(never)]
-    fn same_speed_across_move(&self, st: &AlarmState) -> bool {
-        let k = ((!st.armed).trailing_zeros() as usize).min(2 * self.n);
-        let m = k.min(self.n);
-        let len = |from: usize| -> u32 {
-            (from..from + m)
-                .map(|i| st.hist_len.get(st.slot(i)).copied().unwrap_or(0) as u32)
-                .sum()
-        };
-        let (now, then) = (len(0), len(k + 1));
-        m > 0 && now.abs_diff(then) <= now / 100 + 2
     }
 
     /// Whether the pair's gain `r0` stands above what an exit would leave the gaining
@@ -3471,91 +3341,6 @@ mod tests {
             assert!((quiet - want).abs() < 1e-3 * want, "{quiet} against {want}");
         }
         assert!(moved[at + 5].0.is_finite() && moved[at + 5].1.is_infinite());
-    }
-
-    /// A flute broken in a moved window's odd period: the alarm's history crosses the move,
-    /// but the hand-over stage's re-cut profiles show the next flute's gain in the first
-    /// period after it. The odd tooth's next period (and, 4 flutes, the one before it) is
-    /// armed on that evidence: 4 sigma_R instead of 6, the evidence's share instead of the
-    /// plain one. Not on a gain under 4.5 sigma_R, nor on a loss (an exit's), nor where the
-    /// periods since the move are shorter than those before it (a speed change moves force
-    /// across the boundaries).
-    #[test]
-    fn a_gain_on_its_recut_profile_after_a_move_arms_the_odd_tooths_next_period() {
-        let est = EstimatorConfig::default();
-        let a = AlarmConfig::default().build(&est).unwrap();
-        let f = forces(3.0, 42, &[]);
-        let at = 40 * 4;
-        // (floor, share) after each record; `first`: the change of the first period after
-        // the move from its re-cut profile [N] (the rest of that revolution: none), `len`:
-        // the periods' length after it.
-        let run = |first: f32, len: u32| {
-            let mut st = AlarmState::default();
-            let mut out = Vec::new();
-            let mut raised = None;
-            for (i, &force) in f.iter().enumerate() {
-                let moved = Status(Status::WINDOW_MOVED.0 | Status::PERIOD_INVALID.0);
-                let mut rec = record(i, 0.0, if i == at { moved } else { Status::AMBIGUOUS });
-                // (The tangential channel alone: the watched force is it, and so is the
-                // re-cut change.)
-                rec.f2_n = force;
-                rec.samples = match i {
-                    _ if i == at => 375,
-                    _ if i > at => len,
-                    _ => 250,
-                };
-                let recut = match i - at.min(i) {
-                    1 => first,
-                    2..=4 => 0.0,
-                    _ => f32::NAN,
-                };
-                let ev = a
-                    .process_with(&mut st, &rec, None, recut, &mut NoProbe)
-                    .event;
-                if let (None, Some(e)) = (raised, ev) {
-                    raised = Some((i, e.cause));
-                }
-                out.push((st.trip_floor_n(), st.trip_share()));
-            }
-            (out, raised)
-        };
-        // The odd tooth (0) opens after tooth 3's record, 3 after the first one.
-        let (plain, none) = run(f32::NAN, 250);
-        let plain = plain[at + 3];
-        let sigma_r = plain.0 / FIRST_TOOTH_SIGMAS;
-        assert!(
-            plain.0.is_finite() && plain.1 >= TRIP_SHARE && none.is_none(),
-            "{plain:?}"
-        );
-        let (handed, raised) = run(6.0 * sigma_r, 250);
-        assert_eq!(raised, None);
-        for k in [at + 2, at + 3] {
-            let (floor, share) = handed[k];
-            let want = EVIDENCE_TRIP_SIGMAS * sigma_r;
-            assert!(
-                (floor - want).abs() < 1e-3 * want,
-                "{k}: {floor} against {want}"
-            );
-            assert!(share >= EVIDENCE_SHARE && share < plain.1, "{k}: {share}");
-        }
-        for (first, len) in [
-            (4.0 * sigma_r, 250),
-            (-6.0 * sigma_r, 250),
-            (6.0 * sigma_r, 245),
-        ] {
-            let (floor, share) = run(first, len).0[at + 3];
-            assert!(
-                floor >= plain.0 && share >= plain.1,
-                "{first} {len}: {floor} {share}"
-            );
-        }
-        // Three times `E`'s threshold on the revolution mean (no estimate), its noise
-        // floor `R`'s: raised at the gain.
-        let mean = RUNOUT_30.iter().sum::<f32>() / 4.0;
-        let k = AlarmConfig::default().breakage.threshold_rel;
-        let limit = SINGLE_EXCEEDANCE * (k * mean).max(E_SIGMAS * sigma_r);
-        assert_eq!(run(1.05 * limit, 250).1, Some((at + 1, Cause::Breakage)));
-        assert_eq!(run(0.95 * limit, 250).1, None);
     }
 
     /// A trip latches the output at once; the records after it name the cause: the next

@@ -57,9 +57,7 @@
 //! Only between usable periods in tooth order (no lost pulse, feed change, bad data or
 //! air: any of them forgets every tooth's profile; a moved window re-cuts them at the new
 //! boundary, [`Handover::realign`], so that the drop trip is not blind for the revolution
-//! after the move; each tooth's first period after it tells its change from that profile,
-//! [`HandoverState::recut_change_n`], where the alarm stage sees a hand-over across the
-//! move), only after `N + 1` steady
+//! after the move), only after `N + 1` steady
 //! periods in a row (no transient: entries and exits change every tooth), and after
 //! [`WARM_TEETH`] steady periods of noise figures. Motor input only (the spindle current is
 //! the tangential force), tools of up to [`MAX_TEETH`] flutes (0.5 KiB of state less than 16).
@@ -180,18 +178,6 @@ pub struct HandoverState {
     /// path reads they cost its fastest sample 6 instructions, measured under QEMU.)
     shift: f32,
     start_off: [f32; MAX_TEETH],
-    /// The closed period's change from its tooth's re-cut profile (its first period after
-    /// a move), in the spindle channel's units of a tooth average; NaN where it was not
-    /// compared with one.
-    recut: f32,
-}
-
-impl HandoverState {
-    /// The closed period's change from its tooth's profile re-cut at a moved boundary, as a
-    /// tangential force [N] (its first period since the move); NaN where it had none.
-    pub fn recut_change_n(&self) -> f32 {
-        self.recut * self.per_unit_n
-    }
 }
 
 impl Default for HandoverState {
@@ -232,7 +218,6 @@ impl Default for HandoverState {
             kept: 0.0,
             moved: [0.0; MAX_TEETH],
             moved_n: 0,
-            recut: f32::NAN,
         }
     }
 }
@@ -636,7 +621,6 @@ impl Handover {
             return (0.0, 0.0);
         }
         st.per_unit_n = per_unit_n;
-        st.recut = f32::NAN;
         let n = self.teeth as usize;
         let in_order = tooth as usize == (st.last_tooth as usize + 1) % n;
         st.last_tooth = tooth;
@@ -713,7 +697,6 @@ impl Handover {
         let ok = ok && sum.is_finite();
         if st.against_recut && ok {
             Self::moved_change(st, sum);
-            st.recut = sum;
         }
         let out = if m_best > 0.0 {
             let z = if v_best > 0.0 {

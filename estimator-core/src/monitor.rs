@@ -448,13 +448,6 @@ impl MonitorState {
         self.model_n
     }
 
-    /// The last record's change from its tooth's profile re-cut at a moved window, as a
-    /// tangential force [N] ([`HandoverState::recut_change_n`]); NaN where it had none.
-    #[inline(always)]
-    pub(crate) fn recut_change_n(&self) -> f32 {
-        self.hand.recut_change_n()
-    }
-
     /// The `k`-th most recent entry (0 = newest); `k < len`.
     fn back(&self, k: usize) -> Entry {
         // MAX_WINDOW is a power of two: the wrap is a mask.

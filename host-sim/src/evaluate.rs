@@ -1411,24 +1411,6 @@ mod held_out_tests {
         assert!(late.len() <= 2, "{late:#?}");
     }
 
-    /// Flutes broken in a moved window's odd period (the period in which the boundary
-    /// moved, of mixed alignment, unusable to the rules on the records, which forget their
-    /// history there): the next flute's first period after the move gained 29-83 % on its
-    /// re-cut profile. Without that evidence the broken flute's next period was armed at
-    /// the plain share and 6 sigma_R, and tripped past its revolution. Seeds 2459 break 73
-    /// (4 flutes), 2526 break 79 and 2541 break 118 (3 flutes, an 83 % gain, now raised
-    /// at it) and 2456 break 38 (4 flutes, broken in the first period after the move: its
-    /// loss and the next flute's gain on their re-cut profiles): found at seeds 2449-2544,
-    /// 13 of their 32 runs were late before, 6 after.
-    #[test]
-    fn a_flute_broken_in_a_moved_windows_odd_period_is_handed_on() {
-        let late: Vec<String> = [(73, 2459), (79, 2526), (118, 2541), (38, 2456)]
-            .into_iter()
-            .flat_map(|(index, seed)| late_over_noise(index, seed, 8))
-            .collect();
-        assert!(late.len() <= 6, "{late:#?}");
-    }
-
     /// An exit fading over revolutions (4 flutes, `R_r` 0.29, an axial depth of 11 mm whose
     /// helix's lag makes the cut wider than a pitch, no estimate), its records flagged
     /// transient on and off: a pair in it (88 N down, 55 up, 5.6 sigma_R) armed the trip
