@@ -57,13 +57,15 @@
 //! Only between usable periods in tooth order (no lost pulse, feed change, bad data or
 //! air: any of them forgets every tooth's profile; a moved window re-cuts them at the new
 //! boundary, [`Handover::realign`], so that the drop trip is not blind for the revolution
-//! after the move), only after `N + 1` steady
+//! after the move; each tooth's first period after it tells its change from that profile,
+//! [`HandoverState::recut_change_n`], where the alarm stage sees a hand-over across the
+//! move), only after `N + 1` steady
 //! periods in a row (no transient: entries and exits change every tooth), and after
 //! [`WARM_TEETH`] steady periods of noise figures. Motor input only (the spindle current is
 //! the tangential force), tools of up to [`MAX_TEETH`] flutes (0.5 KiB of state less than 16).
 
 use crate::fmath;
-use crate::window::PROFILE_BINS;
+use crate::window::{bin_step, PROFILE_BINS};
 
 /// Bins of a tooth period (the window stage's bins).
 pub const BINS: usize = PROFILE_BINS;
@@ -82,6 +84,14 @@ pub const MAX_Z: f32 = 1.0e6;
 /// boundary, rounded to samples; [`Handover::period_start`]): inside the period the drop
 /// trip allows for the loss that so small a shift makes (the module's "Drop trip").
 pub const JITTER_SAMPLES: f32 = 1.0;
+
+/// The first sample of bin `k` at `step` bins per sample (16.16), as a position [samples]:
+/// a sample `p` falls in bin `(p step) >> 16`.
+#[inline(always)]
+fn bin_start(k: usize, step: u32) -> f32 {
+    // (`k` is a bin, at most `BINS`: no overflow.)
+    ((k as u32) << 16).div_ceil(step.max(1)) as f32
+}
 
 /// The stage, derived once from the monitor's configuration.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -178,6 +188,18 @@ pub struct HandoverState {
     /// path reads they cost its fastest sample 6 instructions, measured under QEMU.)
     shift: f32,
     start_off: [f32; MAX_TEETH],
+    /// The closed period's change from its tooth's re-cut profile (its first period after
+    /// a move), in the spindle channel's units of a tooth average; NaN where it was not
+    /// compared with one.
+    recut: f32,
+}
+
+impl HandoverState {
+    /// The closed period's change from its tooth's profile re-cut at a moved boundary, as a
+    /// tangential force [N] (its first period since the move); NaN where it had none.
+    pub fn recut_change_n(&self) -> f32 {
+        self.recut * self.per_unit_n
+    }
 }
 
 impl Default for HandoverState {
@@ -218,6 +240,7 @@ impl Default for HandoverState {
             kept: 0.0,
             moved: [0.0; MAX_TEETH],
             moved_n: 0,
+            recut: f32::NAN,
         }
     }
 }
@@ -525,23 +548,28 @@ impl Handover {
     }
 
     /// The window's boundary moved ([`crate::window`]): the period of tooth `closed` that
-    /// just closed was the odd one, `odd_len` samples against periods of `len`, counted as
-    /// `advance` teeth (the open one is `closed + advance`'s). Each tooth's bins of its last period are re-cut at the new
+    /// just closed was the odd one, `odd_len` samples against periods of `len` (the pulses'
+    /// tracked interval, not one period's length: that jitters with the encoder), counted
+    /// as `advance` teeth (the open one is `closed + advance`'s). Each tooth's bins of its
+    /// last period are re-cut at the new
     /// boundary, so that the first period of every tooth under it has its reference a
     /// revolution earlier: forgotten instead, a flute broken within a revolution of the
     /// move would be certain only after one more (the drop trip has nothing to lose
     /// against).
     ///
     /// The odd period began at a boundary of the old alignment and ended at the new one,
-    /// `q = odd_len / len` periods later: the new boundaries lie `frac(q)` of a period into
-    /// the old ones. The open period spans that share of the old period
+    /// `q = odd_len / len` periods later, counted from where the pulses' tracked times put
+    /// its start (its boundary lay off them by [`Handover::period_start`]'s offset): the
+    /// new boundaries lie `frac(q)` of a period into the old ones, less each old period's
+    /// own offset. The open period spans that share of the old period
     /// `closed + floor(q)` onwards into the one after it; each later one, the next old
-    /// pair. A new bin `b` spans old positions `b + x .. b + x + 1` (in bins, `x =
-    /// frac(q) BINS`) of that pair's bins laid end to end: the two old bins it overlaps,
-    /// weighted by the overlap (the profile taken flat within a bin). The odd period's own
-    /// last bin took its excess: that bin of a revolution earlier stands in. Only where the odd
-    /// period is longer than one period and shorter than two (a move alone, no lost pulse)
-    /// and both old periods of a tooth are usable; elsewhere every profile is forgotten.
+    /// pair. A new bin is the mean of the old bins' samples it spans, each old bin flat
+    /// over its samples, placed as the window stage bins a period (a bin's first sample is
+    /// `ceil(k 65536 / step)`, [`crate::window::bin_step`]) from its own boundary. The odd
+    /// period's own last bin took its excess: that bin of a revolution earlier stands in.
+    /// Only where the odd period is longer than one period and shorter than two (a move
+    /// alone, no lost pulse) and both old periods of a tooth are usable; elsewhere every
+    /// profile is forgotten.
     #[cold]
     #[inline(never)]
     pub fn realign(
@@ -550,7 +578,7 @@ impl Handover {
         closed: u8,
         advance: usize,
         odd_len: u32,
-        len: u32,
+        len: f32,
     ) {
         let n = self.teeth.max(1) as usize;
         // A trip the odd period's close raised is no loss: it judged the whole period,
@@ -560,15 +588,29 @@ impl Handover {
         // alignment's, and a trip there was taken on the sample after it passed.
         st.tripped = false;
         st.open = ((closed as usize + advance) % n) as u8;
-        let q = odd_len as f32 / len.max(1) as f32;
+        // Measured from the odd period's start as the pulses' tracked times place it (at
+        // the pulse, its boundary lay off them by the encoder's jitter).
+        let len = fmath::max(len, 1.0);
+        let offs = st.start_off;
+        let off = |t: usize| offs.get(t).copied().unwrap_or(0.0);
+        let q = (odd_len as f32 + off(closed as usize)) / len;
         // (`as` saturates: a NaN or negative `q` is 0, no move.)
         let whole = q as usize;
-        let x = (q - whole as f32) * BINS as f32;
-        let i0 = x as usize;
-        let f = x - i0 as f32;
+        // The new boundary, in samples past the tracked time of the old one before it.
+        let x = (q - whole as f32) * len;
+        // The window stage's bin starts at the tracked length, the new periods' and (to
+        // within the jitter of one period's length) the old ones'.
+        let step = bin_step((len + 0.5) as u32);
+        let mut starts = [0.0f32; BINS];
+        for (k, s) in starts.iter_mut().enumerate() {
+            *s = bin_start(k, step);
+        }
+        let start = |k: usize| starts.get(k).copied().unwrap_or(len);
         let was = st.filled;
         Self::forget(st);
-        if !(self.on && self.realigns && whole == 1 && (1..n).contains(&advance) && i0 < BINS) {
+        // Every re-cut profile is laid on the tracked times, as the placed boundary is.
+        st.start_off = [0.0; MAX_TEETH];
+        if !(self.on && self.realigns && whole == 1 && (1..n).contains(&advance)) {
             return;
         }
         let mut old = st.last;
@@ -590,9 +632,37 @@ impl Handover {
                     .copied()
                     .unwrap_or(0.0)
             };
+            // Where each old bin began, in samples past `u`'s tracked time: `u`'s from its
+            // boundary (off the tracked time by its offset), `v`'s from its own boundary a
+            // tracked period later. `u`'s last bin runs to `v`'s first (it took `u`'s
+            // excess; the odd period's is the bin a revolution earlier). Beyond both, the
+            // end bins held flat.
+            let j = len + off(v);
+            let edge = |k: usize| {
+                if k < BINS {
+                    fmath::min(off(u) + start(k), j)
+                } else {
+                    j + start(k - BINS)
+                }
+            };
+            // Each new bin's mean over the samples it spans (its last to the period's
+            // end), each sample as flat over its interval: one walk over both.
+            let mut k = 0usize;
             let mut total = 0.0f32;
-            for (k, r) in row.iter_mut().enumerate() {
-                *r = (1.0 - f) * at(k + i0) + f * at(k + i0 + 1);
+            for (i, r) in row.iter_mut().enumerate() {
+                let (lo, hi) = (x + start(i), x + start(i + 1));
+                let (mut s, w) = (lo, hi - lo);
+                let mut sum = 0.0f32;
+                while s < hi {
+                    while k + 1 < 2 * BINS && edge(k + 1) <= s {
+                        k += 1;
+                    }
+                    let e = edge(k + 1);
+                    let end = if k + 1 < 2 * BINS && e < hi { e } else { hi };
+                    sum += at(k) * (end - s);
+                    s = end;
+                }
+                *r = if w > 0.0 { sum / w } else { at(k) };
                 total += *r;
             }
             if let Some(s) = st.last_sum.get_mut(t) {
@@ -621,6 +691,7 @@ impl Handover {
             return (0.0, 0.0);
         }
         st.per_unit_n = per_unit_n;
+        st.recut = f32::NAN;
         let n = self.teeth as usize;
         let in_order = tooth as usize == (st.last_tooth as usize + 1) % n;
         st.last_tooth = tooth;
@@ -697,6 +768,7 @@ impl Handover {
         let ok = ok && sum.is_finite();
         if st.against_recut && ok {
             Self::moved_change(st, sum);
+            st.recut = sum;
         }
         let out = if m_best > 0.0 {
             let z = if v_best > 0.0 {
@@ -1068,42 +1140,62 @@ mod tests {
         delay: usize,
         quiet: f32,
     ) -> (Option<(usize, usize)>, Vec<f32>) {
-        feed_moved_at(h, x, moved, delay, quiet, 0.5)
+        feed_moved_off(h, x, moved, delay, quiet, 0.5, &[], false)
     }
 
-    /// [`feed_moved`], the trip armed at `share` of the tooth.
-    fn feed_moved_at(
+    /// [`feed_moved`], the trip armed at `share` of the tooth, the boundaries up to the
+    /// move at the pulses `offs[k]` samples off their tracked times `k LEN` (none listed:
+    /// 0). `told`: the stage is told those offsets and re-cuts against the tracked
+    /// interval `LEN` (the monitor); else against the length of the period before the odd
+    /// one, as one period's length tells it.
+    #[allow(clippy::too_many_arguments)]
+    fn feed_moved_off(
         h: Handover,
         x: &[f32],
         moved: usize,
         delay: usize,
         quiet: f32,
         share: f32,
+        offs: &[i32],
+        told: bool,
     ) -> (Option<(usize, usize)>, Vec<f32>) {
         let n = N as usize;
-        let mut bounds: Vec<usize> = (0..=moved).map(|k| k * LEN).collect();
+        let off = |k: usize| offs.get(k).copied().unwrap_or(0);
+        let mut bounds: Vec<usize> = (0..=moved)
+            .map(|k| (k * LEN) as i32 + off(k))
+            .map(|b| b.max(0) as usize)
+            .collect();
         bounds.extend((moved + 1..x.len() / LEN).map(|k| k * LEN + delay));
         let mut st = HandoverState::default();
         let mut step = 0u32;
         // The tooth of the open period, and of the last one closed with its length.
         let mut tooth = 0usize;
         let mut closed: Option<(usize, usize)> = None;
+        let mut ref_len = LEN;
         for (p, w) in bounds.windows(2).enumerate() {
             for (pos, &v) in x[w[0]..w[1]].iter().enumerate() {
                 match closed.take().filter(|_| pos == 0) {
                     Some((t, len)) => {
                         h.sample(&mut st, Some(t as u8), 0, v);
                         let odd = p - 1 == moved;
-                        let period = if odd {
-                            h.period_len(&mut st, LEN as u32);
+                        if odd {
                             let advance = (tooth + n - t) % n;
-                            h.realign(&mut st, t as u8, advance, len as u32, LEN as u32);
+                            if told {
+                                ref_len = LEN;
+                            }
+                            h.realign(&mut st, t as u8, advance, len as u32, ref_len as f32);
+                        }
+                        let told_off = if told && p <= moved { off(p) } else { 0 };
+                        h.period_start(&mut st, told_off as f32);
+                        let period = if odd {
+                            h.period_len(&mut st, ref_len as u32);
                             Period::Moved
                         } else {
                             h.period_len(&mut st, len as u32);
+                            ref_len = len;
                             Period::Cut { steady: true }
                         };
-                        step = ((BINS as u32) << 16) / if odd { LEN } else { len } as u32;
+                        step = ((BINS as u32) << 16) / if odd { ref_len } else { len } as u32;
                         h.measure(&mut st, t as u8, period, 1.0);
                         let ft = x[w[0] - len..w[0]].iter().sum::<f32>() / len as f32;
                         let q = if p > moved { quiet } else { f32::INFINITY };
@@ -1176,6 +1268,47 @@ mod tests {
         }
     }
 
+    /// The boundaries before the move are the pulses, off their tracked times by the
+    /// encoder's jitter (up to 2 samples of 48), and so are the bins of each period (of
+    /// the period before's length); the new boundary lies two samples before the chip's
+    /// steep entry (the least-force bin ends there). Told each boundary's offset and the
+    /// tracked interval, the re-cut finds each old bin's samples (to within its period
+    /// before's length, which it takes as the tracked one), and the periods after the move
+    /// differ from their re-cut profiles by under 3 % of a tooth, whatever the odd
+    /// period's start and the one's before it (seed 2856 chip 22: one period's length, 49
+    /// samples against 51.4 tracked, put each re-cut profile 1-2 bins off and 6-16 % of a
+    /// tooth off the periods after the move). Re-cut from the length of the period before
+    /// the odd one and the pulses taken as the tracked times, as one period tells them,
+    /// more than three times that (computed here for the same signal).
+    #[test]
+    fn a_moved_window_recuts_against_the_tracked_times() {
+        let tooth: f32 = (0..CUT).map(flute).sum::<f32>() / LEN as f32;
+        let (start, delay, moved) = (20, 18, 60);
+        let steady = stream(100, start, |_, _| 1.0);
+        let worst = |offs: &[i32], told: bool| {
+            let h = Handover::new(N, true, true, true);
+            let (trip, changes) = feed_moved_off(h, &steady, moved, delay, 1.0, 0.5, offs, told);
+            assert_eq!(trip, None);
+            assert_eq!(changes.len(), N as usize);
+            changes.iter().fold(0.0f32, |m, c| m.max(c.abs())) / tooth
+        };
+        let mut jitter = Noise(0x0bad_cafe, 1.2);
+        let mut offs: Vec<i32> = (0..=moved)
+            .map(|_| jitter.next().round().clamp(-2.0, 2.0) as i32)
+            .collect();
+        let (mut told, mut untold) = (0.0f32, 0.0f32);
+        for odd in -2..=2 {
+            for before in -2..=2 {
+                offs[moved] = odd;
+                offs[moved - 1] = before;
+                told = told.max(worst(&offs, true));
+                untold = untold.max(worst(&offs, false));
+            }
+        }
+        assert!(told < 0.03, "{told}");
+        assert!(untold > 3.0 * told, "{untold} against {told}");
+    }
+
     /// A moved window's odd period is not judged whole at its close: its last bin took
     /// the excess past the old period's length, angles the same bin a revolution earlier
     /// did not hold. A short chip (12 samples of 48, thickest first) whose entry falls in
@@ -1214,7 +1347,10 @@ mod tests {
             "{before:?} {odd:?}"
         );
         let h = Handover::new(N, true, true, true);
-        assert_eq!(feed_moved_at(h, &x, moved, delay, 1.0, 0.3).0, None);
+        assert_eq!(
+            feed_moved_off(h, &x, moved, delay, 1.0, 0.3, &[], false).0,
+            None
+        );
     }
 
     /// After a move the trip is armed only where no run of the periods since lost more

@@ -448,6 +448,13 @@ impl MonitorState {
         self.model_n
     }
 
+    /// The last record's change from its tooth's profile re-cut at a moved window, as a
+    /// tangential force [N] ([`HandoverState::recut_change_n`]); NaN where it had none.
+    #[inline(always)]
+    pub(crate) fn recut_change_n(&self) -> f32 {
+        self.hand.recut_change_n()
+    }
+
     /// The `k`-th most recent entry (0 = newest); `k < len`.
     fn back(&self, k: usize) -> Entry {
         // MAX_WINDOW is a power of two: the wrap is a mask.
@@ -559,32 +566,47 @@ impl Monitor {
         self.handover
             .sample(&mut st.hand, p.as_ref().map(|p| p.tooth), bin, x[4]);
         if let Some(p) = p.as_mut() {
+            // (The move first: the re-cut needs the odd period's start offset, which the
+            // open period's start replaces.)
+            let len = if self.boundary.take_moved(&mut st.win) {
+                self.moved(st, p)
+            } else {
+                p.samples
+            };
             let off = self.boundary.boundary_off(&st.win);
             self.handover.period_start(&mut st.hand, off);
-            self.handover.period_len(&mut st.hand, p.samples);
-            if self.boundary.take_moved(&mut st.win) {
-                self.moved(st, p);
-            }
+            self.handover.period_len(&mut st.hand, len);
         }
         p
     }
 
-    /// The period `p` closed is the first under a moved window boundary (once a cut).
+    /// The period `p` closed is the first under a moved window boundary (once a cut); the
+    /// length the open period's bins take.
     #[cold]
     #[inline(never)]
-    fn moved(&self, st: &mut MonitorState, p: &mut Period) {
+    fn moved(&self, st: &mut MonitorState, p: &mut Period) -> u32 {
         p.status |= Status::WINDOW_MOVED;
-        // The next period is judged against the length before the move, and its bins are
-        // that length's, not the odd period's.
+        // The next period is judged against the length before the move; its bins are not
+        // the odd period's.
         self.timing.odd_period(&mut st.tooth);
-        let len = st.tooth.reference_len();
+        // The re-cut, and the open period's bins, from the pulses' tracked interval: one
+        // period's length jitters with the encoder (seed 2856 chip 22: 49 samples against
+        // 51.4 tracked, each re-cut profile 1-2 bins off the periods after the move, 6-16 %
+        // of a tooth).
+        let tracked = self.boundary.tracked_len(&st.win);
+        let tracked = if (1.0..1.0e6).contains(&tracked) {
+            tracked
+        } else {
+            st.tooth.reference_len() as f32
+        };
+        // (`as` saturates: a period of 0 is 1 sample's bins.)
+        let len = (tracked + 0.5) as u32;
         self.boundary.rebin(&mut st.win, len);
-        self.handover.period_len(&mut st.hand, len);
         // The teeth the tooth stage counted the odd period as: up to the open period's.
         let n = self.cfg.estimator.tool.flutes as usize;
         let teeth = (st.tooth.open_tooth() as usize + n - p.tooth as usize % n.max(1)) % n.max(1);
         self.handover
-            .realign(&mut st.hand, p.tooth, teeth, p.samples, len);
+            .realign(&mut st.hand, p.tooth, teeth, p.samples, tracked);
         // Not stored in the filter window (its length is flagged), the odd period's teeth
         // are stored as they were a revolution earlier. Left out, each revolution mean over
         // it would hold one tooth twice and miss one, off by the runout, and the transient
@@ -597,6 +619,7 @@ impl Monitor {
                 self.push(st, e, n);
             }
         }
+        len
     }
 
     /// Feed force and second force [N] from a period's raw channel means (feed X, feed Y,

@@ -139,9 +139,10 @@ impl Pipeline {
             .tooth_and_copy(&mut st.monitor, p, &mut st.last, probe);
         // The wear tracker's eq. 7 at the estimate, already computed by the estimator.
         let model = Some(st.monitor.model_n());
+        let recut = st.monitor.recut_change_n();
         let out = self
             .alarms
-            .process_with(&mut st.alarms, &st.last, model, probe);
+            .process_with(&mut st.alarms, &st.last, model, recut, probe);
         self.monitor.arm_trip(
             &mut st.monitor,
             &st.last,

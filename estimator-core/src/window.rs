@@ -72,6 +72,13 @@ const NOT_STEADY: Status = Status(
         | Status::WINDOW_MOVED.0,
 );
 
+/// Bins per sample of a period binned as `len` samples (16.16 fixed point): a sample `p`
+/// of the period falls in bin `(p step) >> 16`, the last bin taking any excess.
+#[inline(always)]
+pub fn bin_step(len: u32) -> u32 {
+    ((PROFILE_BINS as u32) << 16) / len.max(1)
+}
+
 /// The window stage, derived once from the monitor's configuration.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Window {
@@ -219,7 +226,7 @@ impl Window {
     /// Bins of the open period from a period of `len` samples.
     #[inline(always)]
     pub fn rebin(&self, st: &mut WindowState, len: u32) {
-        st.bin_step = ((PROFILE_BINS as u32) << 16) / len.max(1);
+        st.bin_step = bin_step(len);
     }
 
     /// How far the boundary that opened the open period lies from the pulses' tracked
@@ -232,6 +239,12 @@ impl Window {
         } else {
             0.0
         }
+    }
+
+    /// The tooth period the pulses' tracked interval gives [samples] (0 before a pulse).
+    #[inline(always)]
+    pub fn tracked_len(&self, st: &WindowState) -> f32 {
+        st.pulse_len / self.teeth_per_pulse.max(1) as f32
     }
 
     /// Whether the period closing now is the first under a moved boundary (then cleared).
