@@ -2055,13 +2055,7 @@ impl Alarms {
     fn same_speed_across_move(&self, st: &AlarmState) -> bool {
         let k = ((!st.armed).trailing_zeros() as usize).min(2 * self.n);
         let m = k.min(self.n);
-        let len = |from: usize| -> u32 {
-            (from..from + m)
-                .map(|i| st.hist_len.get(st.slot(i)).copied().unwrap_or(0) as u32)
-                .sum()
-        };
-        let (now, then) = (len(0), len(k + 1));
-        m > 0 && now.abs_diff(then) <= now / 100 + 2
+        m > 0 && self.lengths_within(st, k + 1, m, 100)
     }
 
     /// Whether the pair's gain `r0` stands above what an exit would leave the gaining
@@ -2160,15 +2154,16 @@ impl Alarms {
     /// each boundary, a little a revolution: past the threshold over several.
     #[inline(always)]
     fn same_speed(&self, st: &AlarmState, back: usize, revs: usize) -> bool {
-        self.lengths_within(st, back, revs, 100)
+        self.lengths_within(st, back, revs * self.n, 100)
     }
 
-    /// ... to `1 / per` and two samples.
+    /// ... the newest `teeth` as long as the `teeth` from `back` earlier, to `1 / per` and
+    /// two samples.
     #[cold]
     #[inline(never)]
-    fn lengths_within(&self, st: &AlarmState, back: usize, revs: usize, per: u32) -> bool {
+    fn lengths_within(&self, st: &AlarmState, back: usize, teeth: usize, per: u32) -> bool {
         let len = |from: usize| -> u32 {
-            (from..from + revs * self.n)
+            (from..from + teeth)
                 .map(|k| st.hist_len.get(st.slot(k)).copied().unwrap_or(0) as u32)
                 .sum()
         };
@@ -2188,7 +2183,8 @@ impl Alarms {
         let n = self.n.max(1);
         let back = SPEED_SETTLED_TEETH.next_multiple_of(n);
         let two = (1u64 << (2 * n)) - 1;
-        !st.all_armed(two | two << back) || self.lengths_within(st, back, 2, SPEED_SETTLED_PER)
+        !st.all_armed(two | two << back)
+            || self.lengths_within(st, back, 2 * self.n, SPEED_SETTLED_PER)
     }
 
     /// The redistribution against `back` teeth earlier (`span` 2: two revolutions' means,

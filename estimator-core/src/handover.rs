@@ -880,7 +880,7 @@ mod tests {
             for (pos, &x) in p.iter().enumerate() {
                 let closed = (pos == 0 && k > 0).then(|| ((k - 1) % N as usize) as u8);
                 if pos == 0 && k > 0 {
-                    step = ((BINS as u32) << 16) / periods[k - 1].len() as u32;
+                    step = bin_step(periods[k - 1].len() as u32);
                 }
                 let bin = (((pos as u64 * step as u64) >> 16) as usize).min(BINS - 1);
                 h.sample(&mut st, closed, bin, x);
@@ -1195,7 +1195,7 @@ mod tests {
                             ref_len = len;
                             Period::Cut { steady: true }
                         };
-                        step = ((BINS as u32) << 16) / if odd { ref_len } else { len } as u32;
+                        step = bin_step(if odd { ref_len } else { len } as u32);
                         h.measure(&mut st, t as u8, period, 1.0);
                         let ft = x[w[0] - len..w[0]].iter().sum::<f32>() / len as f32;
                         let q = if p > moved { quiet } else { f32::INFINITY };
