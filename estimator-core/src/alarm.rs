@@ -699,6 +699,8 @@ const FIRST_TOOTH_SIGMAS: f32 = 6.0;
 const FIRST_TOOTH_QUIET_SIGMAS: f32 = 3.0;
 /// At least this many teeth before the first tooth must be quiet.
 const FIRST_TOOTH_QUIET_TEETH: usize = 3;
+/// ... nor rising together by more than this many sigma of their sum.
+const FIRST_TOOTH_TREND_SIGMAS: f32 = 2.5;
 /// Two teeth in a row below this share of their force one revolution earlier: nothing
 /// cuts any more (a lost tool, the last teeth of an exit), not a lost flute.
 const GONE_SHARE: f32 = 0.3;
@@ -1494,25 +1496,39 @@ impl Alarms {
                 // (After a pair, the share covers an exit that begins in that period:
                 // the pair tells of the teeth before it, not of the period to come.)
                 let armed = if let Some(floor) = evidence_floor {
-                    self.trip_share(st, rec.tc_mm, sigma_r, true)
+                    // (Every tooth since the gain lost, the newest too: an exit may have
+                    // begun right after the gain, a feed a tooth since. Seed 3213 normal
+                    // 99: a noise pair, then two teeth 1.5 sigma_R down each, then the
+                    // handed tooth's period, armed at 0.3, lost 32 %.)
+                    let mut lost = 0;
+                    while handed_next
+                        && lost + 2 < n
+                        && st.force(lost + n) - st.force(lost) > EVIDENCE_EACH_SIGMAS * sigma_r
+                    {
+                        lost += 1;
+                    }
+                    let lost_since = lost.saturating_sub(1);
+                    self.trip_share(st, rec.tc_mm, sigma_r, Some(lost_since))
                         .map(|share| (share, floor))
                 } else if fresh
                     || self.no_recent_loss(st, TRIP_QUIET_SIGMAS * TRIP_QUIET_SIGMAS * var_r)
                         && !(st.all_armed(self.armed_fade)
                             && self.fell(st, var, 0, 2, TRIP_FALL_SIGMAS))
-                        // (Nor with two of the last N records flagged transient: a cut
+                        // (Nor with two of the last 2N records flagged transient: a cut
                         // still changing. Seed 1723 normal 113: an exit's tail of 150-200 N
                         // a tooth, flagged on and off for revolutions, ended inside one
-                        // period past the share and 6 sigma_R. The evidence's arming
-                        // above is not affected.)
-                        && st.flagged(0, n) < 2
+                        // period past the share and 6 sigma_R; seed 3126 taught 9 with
+                        // the boundary at the pulses' tracked times, a variant: 3 flutes,
+                        // the tail swinging by 2-5 sigma_R a revolution, 2 of the last 6
+                        // flagged. The evidence's arming above is not affected.)
+                        && st.flagged(0, 2 * n) < 2
                 {
                     // (After a move the hand-over stage walks the periods since; and no
                     // credit: two revolutions are not armed.)
                     if fresh {
                         st.trip_quiet_n = TRIP_QUIET_SIGMAS * sigma_r;
                     }
-                    self.trip_share(st, rec.tc_mm, sigma_r, false).map(|share| {
+                    self.trip_share(st, rec.tc_mm, sigma_r, None).map(|share| {
                         // The next tooth's loss a revolution ago, out of a steady cut: its
                         // period then is the reference now.
                         let lost = st.force(2 * n - 1) - st.force(n - 1);
@@ -1867,7 +1883,7 @@ impl Alarms {
         st: &mut AlarmState,
         tc_mm: f32,
         sigma_r: f32,
-        evidence: bool,
+        evidence: Option<usize>,
     ) -> Option<f32> {
         // (-1: no valid `R_r`, the worst one.)
         let rr = st.held.map_or(-1.0, |(rr, _)| rr);
@@ -1892,7 +1908,7 @@ impl Alarms {
             let wide = (span - self.est.tool.tooth_pitch_rad()) / span;
             st.exit_wide = crate::fmath::min(crate::fmath::max(wide, 0.0), 1.0);
         }
-        let (least, noise, checked, under_way) = if evidence {
+        let (least, noise, checked, under_way) = if evidence.is_some() {
             let lost = (st.force(self.n) - st.force(0)) / sigma_r;
             let under_way = !st.handed_strong && lost > EVIDENCE_KEPT_SIGMAS;
             let checked =
@@ -1908,7 +1924,11 @@ impl Alarms {
             )
         };
         // (An exit the newest tooth shows may be past the two feeds.)
-        let mut exit = if under_way { 1.0 } else { st.exit_share };
+        let mut exit = if under_way || evidence.is_some_and(|k| k > 0) {
+            1.0
+        } else {
+            st.exit_share
+        };
         if let Some(bound) = checked.filter(|_| rr >= 0.0 && exit + noise > least) {
             // The newest tooth did not lose past `bound` sigma_R (`no_recent_loss`, or
             // `kept` after a pair): an exit already under way took at most that and its
@@ -1920,7 +1940,7 @@ impl Alarms {
             let x = if under_way {
                 travel
             } else {
-                crate::fmath::min(travel, feed)
+                crate::fmath::min(travel, feed * (1 + evidence.unwrap_or(0)) as f32)
             };
             // The next flute reaches past the newest one's by its own chip, `f_t + r_next -
             // r_newest` under runout: a heavy flute's is thicker, by about its force over
@@ -2312,11 +2332,18 @@ impl Alarms {
         } else {
             (1u64 << bits) - 1
         };
+        // (Nor where the quiet teeth rose together: an entry, each tooth under the bound
+        // but their sum past FIRST_TOOTH_TREND_SIGMAS of its noise. Seed 3279 wear 5 with
+        // the boundary at the pulses' tracked times, a variant: 3 teeth up 1.3-2 sigma_R
+        // each, then a flute's step into the cut, 6.1 sigma_R.)
+        let trend = FIRST_TOOTH_TREND_SIGMAS * FIRST_TOOTH_TREND_SIGMAS * 0.5 * var;
         if prev_steady
             && st.armed & mask == mask
             && st.tooth(0) == st.tooth(n)
             && r0 > t
-            && self.quiet(st, quiet_teeth, quiet_bound)
+            && self
+                .changes_within(st, 1, 1 + quiet_teeth, quiet_bound)
+                .is_some_and(|sum| sum <= 0.0 || sum * sum <= trend * quiet_teeth as f32)
         {
             // The flute before broke after its engagement and this one took its chip.
             // A drop alone is not decided: the first tooth of an exit through a face
@@ -2355,13 +2382,8 @@ impl Alarms {
             .map(|sum| sum.abs() / self.n as f32)
     }
 
-    /// Whether the changes from one revolution earlier of the `teeth` teeth before the
-    /// newest are all within `bound` (the caller has them and their predecessors armed).
-    fn quiet(&self, st: &AlarmState, teeth: usize, bound: f32) -> bool {
-        self.changes_within(st, 1, 1 + teeth, bound).is_some()
-    }
-
-    /// [`Self::quiet`] for the teeth `from..N` back.
+    /// Whether the changes from one revolution earlier of the teeth `from..N` back are all
+    /// within `bound` (the caller has them and their predecessors armed).
     fn quiet_from(&self, st: &AlarmState, from: usize, bound: f32) -> bool {
         self.changes_within(st, from, self.n, bound).is_some()
     }
@@ -2708,9 +2730,24 @@ mod tests {
         flagged: &[usize],
         shorter: u32,
     ) -> (AlarmState, usize) {
+        armed_on_arc(0.3, levels, after, flagged, shorter)
+    }
+
+    /// ... the last valid estimate's `R_r` at `rr` (its `R_a` where eq. 7 gives the mean).
+    fn armed_on_arc(
+        rr: f32,
+        levels: [f32; 4],
+        after: &[f32],
+        flagged: &[usize],
+        shorter: u32,
+    ) -> (AlarmState, usize) {
         let est = EstimatorConfig::default();
         let a = AlarmConfig::default().build(&est).unwrap();
-        let mut st = narrow_arc(&a, levels.iter().sum::<f32>() / 4.0);
+        let mean_n = levels.iter().sum::<f32>() / 4.0;
+        let mut st = AlarmState {
+            held: Some((rr, mean_n / a.model_signal(rr, 1.0, 0.2))),
+            ..AlarmState::default()
+        };
         let mut events = 0;
         let f = forces_at(levels, 3.0, 40, after);
         for (i, &fx) in f.iter().enumerate() {
@@ -3078,6 +3115,52 @@ mod tests {
         );
     }
 
+    /// After a hand-over's pair, the handed tooth's trip is armed at 0.3; where every tooth
+    /// since the gain lost past 1.5 sigma_R (the newest under the 2 that voids the
+    /// evidence), an exit may have begun right after the gain, a feed a tooth since: the
+    /// share covers it (seed 3213 normal 99: a noise pair, two teeth 1.5 sigma_R down, then
+    /// the handed tooth's period lost 32 %). One of them alone: as before. A broken flute's
+    /// whole loss still passes it.
+    #[test]
+    fn an_exit_begun_after_the_gain_raises_the_evidences_share() {
+        // Half immersion: an exit's loss at two feeds (0.05 R) is 0.31, over 0.3.
+        let exit = crate::geometry::exit_loss_share(1.0, 2.0 * 0.2 / 8.0);
+        assert!(exit > EVIDENCE_SHARE, "{exit}");
+        // A light cut: the newest tooth's loss hidden in the noise bounds the travel past
+        // two feeds.
+        const LIGHT: [f32; 4] = [65.0, 50.0, 50.0, 50.0];
+        // The pair at records 161-162; teeth 3 and 0 (records 163, 164) by `x3` and `x0`.
+        let arming = |x3: f32, x0: f32| {
+            let after = [0.0, -16.0, 16.0, x3, x0];
+            let (st, events) = armed_on_arc(1.0, LIGHT, &after, &[], 0);
+            assert_eq!(events, 0);
+            let f = forces_at(LIGHT, 3.0, 40, &after);
+            let s = libm::sqrtf(0.5 * st.e_var);
+            let lost = |k: usize| (f[k - 4] - f[k]) / s;
+            (st.trip_floor_n(), st.trip_share(), [lost(163), lost(164)])
+        };
+        // (Under the two feeds' bound: the newest tooth's loss bounds the travel.)
+        let (_, base, _) = arming(0.0, 0.0);
+        assert!(base >= EVIDENCE_SHARE && base <= exit, "{base}");
+        for (x3, x0) in [(-4.0, 0.0), (0.0, -6.0)] {
+            let (floor, share, _) = arming(x3, x0);
+            assert!(
+                floor.is_finite() && (share - base).abs() < 0.01,
+                "{x3} {x0}: {share}"
+            );
+        }
+        let (floor, share, lost) = arming(-4.0, -6.0);
+        assert!(
+            lost.iter().all(|&l| l > EVIDENCE_EACH_SIGMAS) && lost[1] < EVIDENCE_KEPT_SIGMAS,
+            "{lost:?}"
+        );
+        // Armed still: a broken flute's whole loss passes it.
+        assert!(
+            floor < 0.5 * LIGHT[1] && share > base + 0.05 && share < 0.5,
+            "{floor} {share}"
+        );
+    }
+
     /// A loss that keeps a pair from arming the window before the handed tooth's voids the
     /// evidence for the handed tooth's period too: an exit has begun, and its next tooth
     /// may lose little (seed 2452 normal 65: the tooth after the pair 24 % down, the next
@@ -3091,6 +3174,21 @@ mod tests {
             floor.is_infinite() || share >= TRIP_SHARE,
             "{floor} {share}"
         );
+    }
+
+    /// The plain trip is not armed with two of the last 2N records flagged transient: a cut
+    /// still changing (seed 1723 normal 113, an exit's tail flagged on and off; seed 3126
+    /// taught 9, 3 flutes, the tail swinging by 2-5 sigma_R a revolution, 2 of the last 6
+    /// flagged and 1 of the last 3). One of them, or the second before the 2N: armed.
+    #[test]
+    fn the_plain_trip_waits_out_a_cut_flagged_on_and_off() {
+        // Records 160-171 steady; the newest 2N are 164-171.
+        let after = [0.0; 12];
+        let floor = |flagged: &[usize]| armed_at(RUNOUT_30, &after, flagged, 0).0.trip_floor_n();
+        for flagged in [&[][..], &[165], &[169], &[161, 169]] {
+            assert!(floor(flagged).is_finite(), "{flagged:?}");
+        }
+        assert!(floor(&[165, 169]).is_infinite());
     }
 
     /// The plain trip's floor (6 sigma_R) counts the loss the next tooth took a revolution
@@ -3892,6 +3990,40 @@ mod tests {
         assert_eq!(first_breakage(&forces(3.0, 40, &after)), None);
         after[5] = -74.0;
         assert!(first_breakage(&forces(3.0, 40, &after)).is_some());
+    }
+
+    /// A tooth up by a first tooth's share out of quiet teeth is decided (the flute before
+    /// broke after its cut, and this one took its chip); not where the quiet teeth rose
+    /// together past 2.5 sigma of their sum, each under the quiet bound: an entry (seed 3279
+    /// wear 5: 3 teeth up 1.3-2 sigma_R each, then a flute's step into the cut, 6.1
+    /// sigma_R). Falling together they are no entry: decided.
+    #[test]
+    fn a_first_tooth_out_of_teeth_rising_together_is_an_entry() {
+        let est = EstimatorConfig::default();
+        let a = AlarmConfig::default().build(&est).unwrap();
+        for (rise, entry) in [(0.0, false), (-8.0, false), (11.0, true)] {
+            // Teeth 2, 3 and 0 (records 162-164) by `rise`, then tooth 1 up by 40 N.
+            let f = forces(3.0, 40, &[0.0, 0.0, rise, rise, rise, 40.0]);
+            let mut st = AlarmState::default();
+            let mut first = None;
+            for (i, &fx) in f.iter().enumerate() {
+                if i == 165 {
+                    // Each of the three within the quiet bound; together past the trend's
+                    // or not.
+                    let s = libm::sqrtf(0.5 * st.e_var);
+                    let r: Vec<f32> = (162..165).map(|k| f[k] - f[k - 4]).collect();
+                    let quiet = FIRST_TOOTH_QUIET_SIGMAS * s;
+                    assert!(r.iter().all(|r| r.abs() <= quiet), "{rise}: {r:?} {s}");
+                    let sum = r.iter().sum::<f32>() / (s * libm::sqrtf(3.0));
+                    assert_eq!(sum > FIRST_TOOTH_TREND_SIGMAS, entry, "{rise}: {sum}");
+                }
+                let out = a.process(&mut st, &record(i, fx, Status::AMBIGUOUS));
+                if first.is_none() && out.event.is_some_and(|e| e.cause == Cause::Breakage) {
+                    first = Some(i);
+                }
+            }
+            assert_eq!(first, (!entry).then_some(165), "{rise}");
+        }
     }
 
     #[test]

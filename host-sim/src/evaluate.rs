@@ -1443,6 +1443,16 @@ mod held_out_tests {
         no_alarm_over_noise(Kind::Normal, 57, 2906, 8);
     }
 
+    /// A noise pair (52 N down, 53 up, 5.3 sigma_R) on the revolution an exit through a face
+    /// began (4 flutes, `R_r` 0.6, a feed of 0.18 mm a tooth, the exit 5 revolutions long):
+    /// the two teeth after the gain lost 1.5 sigma_R each, and the handed tooth's period,
+    /// armed at 0.3, lost 32 %. Where every tooth since the gain lost, the share covers an
+    /// exit begun right after it. Found at seeds 3169-3264 (seed 3213 normal 99).
+    #[test]
+    fn an_exit_begun_after_a_noise_pair_is_no_hand_over() {
+        no_alarm_over_noise(Kind::Normal, 99, 3213, 8);
+    }
+
     /// Flutes broken in a moved window's odd period (the period in which the boundary
     /// moved, of mixed alignment, unusable to the rules on the records, which forget their
     /// history there): the next flute's first period after the move gained 29-83 % on its
