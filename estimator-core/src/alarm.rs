@@ -840,6 +840,20 @@ const PEAK_DECAY_PER_REV: f32 = 0.98;
 /// Initial covariance of the wear multiplier (large: the first teeth decide).
 const P0: f32 = 1.0;
 
+/// Whether the pair's gain `r0` stands above what an exit would leave the gaining
+/// tooth by [`EVIDENCE_EXIT_SIGMAS`] of `R` (`var_r`): `r0 + s F_next`, the loss `r1`
+/// as a share `s = -r1 / F_lost` of the losing tooth's force a revolution earlier
+/// (`then_lost`; the gaining tooth's `then_next`, `F_next`) [N],
+/// times `F_lost` (no division). A break hands the chip on: its gain is the loss, or a
+/// good part of it where it spreads over two periods, far above. True where the
+/// losing tooth's force was not positive (no share); false on NaN.
+#[inline(never)]
+fn above_exit_of(r0: f32, r1: f32, (then_lost, then_next): (f32, f32), var_r: f32) -> bool {
+    let above = r0 * then_lost - r1 * then_next;
+    let bound = EVIDENCE_EXIT_SIGMAS * then_lost;
+    then_lost <= 0.0 || above > 0.0 && above * above > bound * bound * var_r
+}
+
 impl AlarmState {
     /// The latched alarm, if any.
     pub fn latched(&self) -> Option<&AlarmEvent> {
@@ -1969,7 +1983,7 @@ impl Alarms {
     /// thresholds. The gain need only be one: where the arcs overlap, the next flute's
     /// gain spreads over two periods, and an exit's next tooth loses more, never gains; but
     /// it must stand above the loss an exit's share would take from it
-    /// ([`EVIDENCE_EXIT_SIGMAS`], `Alarms::above_exit`), which on a light flute hides in
+    /// ([`EVIDENCE_EXIT_SIGMAS`], `above_exit_of`), which on a light flute hides in
     /// the noise. The pair must stand against two revolutions earlier too
     /// ([`EVIDENCE_BACK_SIGMAS`]). Squares: no root.
     #[inline(always)]
@@ -1999,7 +2013,7 @@ impl Alarms {
             && r1 * r1 > each
             && (!before_lost || r0 > -0.5 * (r1 + r2))
             && both * both > sigmas * sigmas * var_r
-            && self.above_exit(st, r0, r1, var_r)
+            && above_exit_of(r0, r1, (st.force(self.n + 1), st.force(self.n)), var_r)
             && self.stands_two_back(st, var_r)
     }
 
@@ -2033,19 +2047,17 @@ impl Alarms {
         let odd = r1 == f32::NEG_INFINITY;
         let both = if odd { r0 } else { r0 - r1 };
         let each = EVIDENCE_EACH_SIGMAS * EVIDENCE_EACH_SIGMAS * var_r;
-        // An exit's share of the gaining tooth, as `above_exit` takes it: the loss's share
-        // of its profile (its force less the change) times the gaining tooth's.
-        let above = if odd {
-            r0
+        // An exit's share of the gaining tooth, as `above_exit_of` takes it, against the
+        // profiles (each tooth's force less its change); after the odd period, no loss.
+        let then = if odd {
+            (1.0, 0.0)
         } else {
-            let lost_then = st.force(1) - r1;
-            r0 + (-r1 / lost_then) * (f - r0)
+            (st.force(1) - r1, f - r0)
         };
         let pair = r0 > 0.0
             && (odd || r1 < 0.0 && r1 * r1 > each)
             && both * both > EVIDENCE_SIGMAS * EVIDENCE_SIGMAS * var_r
-            && above > 0.0
-            && above * above > EVIDENCE_EXIT_SIGMAS * EVIDENCE_EXIT_SIGMAS * var_r;
+            && above_exit_of(r0, if odd { 0.0 } else { r1 }, then, var_r);
         if pair && self.same_speed_across_move(st) {
             let n = self.n.max(1);
             st.handed = Some(((rec.tooth as usize + n - 1) % n) as u8);
@@ -2076,21 +2088,6 @@ impl Alarms {
         let k = ((!st.armed).trailing_zeros() as usize).min(2 * self.n);
         let m = k.min(self.n);
         m > 0 && self.lengths_within(st, k + 1, m, 100)
-    }
-
-    /// Whether the pair's gain `r0` stands above what an exit would leave the gaining
-    /// tooth by [`EVIDENCE_EXIT_SIGMAS`] of `R` (`var_r`): `r0 + s F_next`, the loss `r1`
-    /// as a share `s = -r1 / F_lost` of the losing tooth's force a revolution earlier,
-    /// times `F_lost` (no division). A break hands the chip on: its gain is the loss, or a
-    /// good part of it where it spreads over two periods, far above. True where the
-    /// losing tooth's force was not positive (no share); false on NaN.
-    #[cold]
-    #[inline(never)]
-    fn above_exit(&self, st: &AlarmState, r0: f32, r1: f32, var_r: f32) -> bool {
-        let (then_lost, then_next) = (st.force(self.n + 1), st.force(self.n));
-        let above = r0 * then_lost - r1 * then_next;
-        let bound = EVIDENCE_EXIT_SIGMAS * then_lost;
-        then_lost <= 0.0 || above > 0.0 && above * above > bound * bound * var_r
     }
 
     /// The hand-over's pair against two revolutions earlier: see [`EVIDENCE_BACK_SIGMAS`]

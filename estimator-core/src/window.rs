@@ -170,7 +170,7 @@ impl Window {
                 st.pulse_len += e * LEN_WEIGHT;
                 st.offset = -(1.0 - TRACK_ALPHA) * e;
             }
-            let tooth_len = st.pulse_len / self.teeth_per_pulse.max(1) as f32;
+            let tooth_len = self.tracked_len(st);
             // A placed boundary follows the pulses' tracked times (the pulse at the phase
             // 0). Rounded; `as u32` saturates (and takes NaN and a negative delay to 0).
             let d = if st.phase == 0 {
