@@ -1025,7 +1025,7 @@ impl Alarms {
     /// Feeds one record.
     #[inline(always)]
     pub fn process(&self, st: &mut AlarmState, rec: &ToothRecord) -> AlarmOutput {
-        self.process_with(st, rec, None, f32::NAN, &mut NoProbe)
+        self.process_with(st, rec, None, (f32::NAN, 0.0), &mut NoProbe)
     }
 
     /// [`Self::process`], telling `probe` where each stage ends (for the instruction-count
@@ -1037,7 +1037,7 @@ impl Alarms {
         rec: &ToothRecord,
         probe: &mut P,
     ) -> AlarmOutput {
-        self.process_with(st, rec, None, f32::NAN, probe)
+        self.process_with(st, rec, None, (f32::NAN, 0.0), probe)
     }
 
     /// Never inlined: one copy serves `process` and `Pipeline::process`.
@@ -1046,14 +1046,16 @@ impl Alarms {
     /// `t_c`), when the caller has it (the pipeline: the estimator computed it); used only
     /// for a valid record, where it is exactly what `model_signal` would recompute.
     /// `recut_n`: `rec`'s change of tangential force from its tooth's profile re-cut at a
-    /// moved window ([`crate::handover::HandoverState::recut_change_n`]; NaN: none).
+    /// moved window ([`crate::handover::HandoverState::recut_change_n`]; NaN: none), and
+    /// `trip_var_n2`: the noise of the channel the drop trip measures, as a variance
+    /// ([`crate::handover::HandoverState::change_var_n2`]; 0: none).
     #[inline(never)]
     pub(crate) fn process_with<P: Probe>(
         &self,
         st: &mut AlarmState,
         rec: &ToothRecord,
         model_n: Option<[f32; 2]>,
-        recut_n: f32,
+        (recut_n, trip_var_n2): (f32, f32),
         probe: &mut P,
     ) -> AlarmOutput {
         let n = self.n;
@@ -1588,7 +1590,17 @@ impl Alarms {
                     None
                 };
                 if let Some((share, floor)) = armed {
-                    st.trip_floor_n = floor;
+                    // The floors are in the resultant's noise; the trip measures the
+                    // tangential channel, whose own noise can be wider (seed 3723 normal
+                    // 34: an exit's tail, the resultant's sigma_R 15.8 N against that
+                    // channel's 23 N, a pair of 3.8 of it tripped at 6 of the first).
+                    // (A root only where it widens.)
+                    let wider = trip_var_n2 / var_r;
+                    st.trip_floor_n = if wider > 1.0 {
+                        floor * libm::sqrtf(wider)
+                    } else {
+                        floor
+                    };
                     st.trip_share = share;
                 }
             }
@@ -2784,6 +2796,34 @@ mod tests {
         (st, events)
     }
 
+    /// The drop trip measures the tangential channel; its floor, set in the resultant's
+    /// noise, widens by that channel's own noise where it is the wider (seed 3723 normal
+    /// 34), and stays where it is not.
+    #[test]
+    fn the_trips_floor_widens_by_its_channels_noise() {
+        let a = AlarmConfig::default()
+            .build(&EstimatorConfig::default())
+            .unwrap();
+        let f = forces(3.0, 40, &[]);
+        let run = |trip_sigma_n: f32| {
+            let mut st = AlarmState::default();
+            for (i, &fx) in f.iter().enumerate() {
+                let rec = record(i, fx, Status::AMBIGUOUS);
+                let var_t = trip_sigma_n * trip_sigma_n;
+                a.process_with(&mut st, &rec, None, (f32::NAN, var_t), &mut NoProbe);
+            }
+            st.trip_floor_n()
+        };
+        // The plain floor: about 6 sigma_R of the resultant (3 N a tooth: sigma_R 4-5 N).
+        let plain = run(0.0);
+        assert!(plain.is_finite() && plain > 0.0, "armed in a steady cut");
+        assert_eq!(run(1.0), plain);
+        // Past the resultant's, in proportion to the channel's noise.
+        let (wide, wider) = (run(20.0), run(40.0));
+        assert!(wide > 2.0 * plain, "{wide} {plain}");
+        assert!((wider / wide - 2.0).abs() < 1e-5, "{wider} {wide}");
+    }
+
     /// `rec` of a period `by` samples shorter than `record`'s, its speed to match.
     fn faster(rec: &mut ToothRecord, by: u32) {
         rec.samples -= by;
@@ -3633,7 +3673,7 @@ mod tests {
                     _ => f32::NAN,
                 };
                 let ev = a
-                    .process_with(&mut st, &rec, None, recut, &mut NoProbe)
+                    .process_with(&mut st, &rec, None, (recut, 0.0), &mut NoProbe)
                     .event;
                 if let (None, Some(e)) = (raised, ev) {
                     raised = Some((i, e.cause));

@@ -200,6 +200,17 @@ impl HandoverState {
     pub fn recut_change_n(&self) -> f32 {
         self.recut * self.per_unit_n
     }
+
+    /// The variance of a whole period's change from its tooth's a revolution earlier on
+    /// this channel, of a tangential force [N^2], learned over steady periods (0 before the
+    /// warm-up): the noise of what the drop trip measures.
+    pub fn change_var_n2(&self) -> f32 {
+        if self.var_count >= WARM_TEETH {
+            self.var[0] * self.per_unit_n * self.per_unit_n
+        } else {
+            0.0
+        }
+    }
 }
 
 impl Default for HandoverState {

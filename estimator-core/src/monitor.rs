@@ -455,6 +455,12 @@ impl MonitorState {
         self.hand.recut_change_n()
     }
 
+    /// The drop trip's channel's noise ([`HandoverState::change_var_n2`]).
+    #[inline(always)]
+    pub(crate) fn change_var_n2(&self) -> f32 {
+        self.hand.change_var_n2()
+    }
+
     /// The `k`-th most recent entry (0 = newest); `k < len`.
     fn back(&self, k: usize) -> Entry {
         // MAX_WINDOW is a power of two: the wrap is a mask.

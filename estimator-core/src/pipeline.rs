@@ -140,9 +140,10 @@ impl Pipeline {
         // The wear tracker's eq. 7 at the estimate, already computed by the estimator.
         let model = Some(st.monitor.model_n());
         let recut = st.monitor.recut_change_n();
+        let var_t = st.monitor.change_var_n2();
         let out = self
             .alarms
-            .process_with(&mut st.alarms, &st.last, model, recut, probe);
+            .process_with(&mut st.alarms, &st.last, model, (recut, var_t), probe);
         self.monitor.arm_trip(
             &mut st.monitor,
             &st.last,

@@ -1361,6 +1361,17 @@ mod held_out_tests {
         no_alarm_over_noise(Kind::Normal, 103, 3642, 8);
     }
 
+    /// An exit's tail (4 flutes, up milling, R 8 mm, 50-110 N a tooth, noise 16 N a tooth on
+    /// each channel): the plain trip, armed at a floor of 6 sigma_R of the resultant (15.8
+    /// N, learned over the tail's last revolutions), passed on the tangential channel's
+    /// pair, a tooth 39 N up then 48 N down, 3.8 of that channel's own sigma_R (23 N). The
+    /// trip's floor now widens by its channel's noise over the resultant's. Seed 3723
+    /// normal 34, found at seeds 3649-3744 (their first run).
+    #[test]
+    fn the_trips_floor_is_in_its_own_channels_noise() {
+        no_alarm_over_noise(Kind::Normal, 34, 3723, 8);
+    }
+
     /// A tool lost late in a period (4 flutes, down milling, 1 100 / 590 / 880 / 820 N a
     /// tooth, in the revolutions after the window moved): the drop trip latched 3 ms after
     /// the loss; the tripped period kept 31 % of its force, the next one 1 %, and the rule
