@@ -65,7 +65,9 @@
 //!   - the drop trip inside the next period ([`crate::handover`]): a flute broken late
 //!     in its cut is certain only when it comes round; its period's samples so far lose
 //!     more than [`TRIP_SHARE`] (half) of the tooth's force one revolution earlier (and
-//!     6 sigma_R) before the flute reaches its break angle again. Armed after a record
+//!     6 sigma_R, every floor widened to the tangential channel's own noise where that is
+//!     the wider: the trip measures that channel alone) before the flute reaches its break
+//!     angle again. Armed after a record
 //!     out of a steady cut (not transient, nor two of the last `N`; the noise figure
 //!     settled, no alarm latched),
 //!     with no run of the newest `j <= N` teeth that lost more than `3 sqrt(j)
