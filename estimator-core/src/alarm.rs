@@ -116,8 +116,9 @@
 //!     about once in 10 000 teeth, and then this period must lose more (its reference, the period of
 //!     the loss, already lacks what the broken flute did not cut). The share is raised to
 //!     what an exit that begins in that period could take (one feed's travel past what
-//!     the newest tooth allows, without the noise term): the pair tells of the teeth
-//!     before it, not of the period to come. The period before that
+//!     the newest tooth allows and the next flute's reach past that, a heavy flute's
+//!     longer, even where that passes the two-feed exit; without the noise term): the
+//!     pair tells of the teeth before it, not of the period to come. The period before that
 //!     tooth's is armed at 0.3 and 4 sigma_R too (3 flutes or more): where arcs are wider
 //!     than a pitch no boundary falls between cuts, the broken flute's cut begins in the
 //!     window before the one that lost most, and so does its next pass, and the loss seen
@@ -1979,7 +1980,9 @@ impl Alarms {
         } else {
             st.exit_share
         };
-        if let Some(bound) = checked.filter(|_| rr >= 0.0 && exit + noise > least) {
+        if let Some(bound) =
+            checked.filter(|_| rr >= 0.0 && (evidence.is_some() || exit + noise > least))
+        {
             // The newest tooth did not lose past `bound` sigma_R (`no_recent_loss`, or
             // `kept` after a pair): an exit already under way took at most that and its
             // noise of its force, so it has travelled at most as far as takes that share,
@@ -2005,7 +2008,16 @@ impl Alarms {
                 1.0
             };
             let next_x = x + feed * (ahead + st.exit_wide);
-            exit = crate::fmath::min(exit, crate::geometry::exit_loss_share(rr, next_x));
+            let reach = crate::geometry::exit_loss_share(rr, next_x);
+            // (After a pair, that reach whatever the two-feed exit: where that is under
+            // EVIDENCE_SHARE, a heavy flute's chip reaching further was cut back to it.
+            // Seed 3804 normal 11: a noise pair, then an exit; the handed tooth, 17 % over
+            // the revolution's mean, lost 30 % against 0.30; its reach asks 0.32.)
+            exit = if evidence.is_some() {
+                reach
+            } else {
+                crate::fmath::min(exit, reach)
+            };
         }
         let need = crate::fmath::max(exit + noise, least);
         (need <= TRIP_MAX_SHARE).then_some(need)
@@ -3198,19 +3210,29 @@ mod tests {
             let f = forces_at(LIGHT, 3.0, 40, &after);
             let s = libm::sqrtf(0.5 * st.e_var);
             let lost = |k: usize| (f[k - 4] - f[k]) / s;
-            (st.trip_floor_n(), st.trip_share(), [lost(163), lost(164)])
+            (
+                st.trip_floor_n(),
+                st.trip_share(),
+                [lost(163), lost(164)],
+                st.exit_wide,
+            )
         };
-        // (Under the two feeds' bound: the newest tooth's loss bounds the travel.)
-        let (_, base, _) = arming(0.0, 0.0);
-        assert!(base >= EVIDENCE_SHARE && base <= exit, "{base}");
+        // (A feed past the newest tooth and one more, and the window's share of the next
+        // flute's cut a feed further on: the newest tooth's loss bounds the travel.)
+        let (_, base, _, wide) = arming(0.0, 0.0);
+        let reach = crate::geometry::exit_loss_share(1.0, (2.0 + wide) * 0.2 / 8.0);
+        assert!(
+            base >= EVIDENCE_SHARE && base <= reach + 1e-4,
+            "{base} {reach}"
+        );
         for (x3, x0) in [(-5.0, 0.0), (0.0, -7.0)] {
-            let (floor, share, _) = arming(x3, x0);
+            let (floor, share, _, _) = arming(x3, x0);
             assert!(
                 floor.is_finite() && (share - base).abs() < 0.01,
                 "{x3} {x0}: {share}"
             );
         }
-        let (floor, share, lost) = arming(-5.0, -7.0);
+        let (floor, share, lost, _) = arming(-5.0, -7.0);
         assert!(
             lost.iter().all(|&l| l > EVIDENCE_EACH_SIGMAS) && lost[1] < EVIDENCE_KEPT_SIGMAS,
             "{lost:?}"
@@ -3544,6 +3566,55 @@ mod tests {
     fn a_heavy_flute_reaches_its_chip_past_an_exit_face() {
         let armed = exits_under_the_share([130.0, 70.0, 100.0, 100.0], [0.3, 0.0, 0.0, 0.0], 0.0);
         assert!(armed > 4 * EXIT_FRACS.len(), "{armed}");
+    }
+
+    /// After a hand-over's pair the share covers what an exit hidden in the newest tooth
+    /// takes at the next flute's reach, a heavy flute's too, where the two-feed exit is
+    /// under `EVIDENCE_SHARE` (seed 3804 normal 11: 3 flutes, 8 mm, `R_r` 1.0, 0.18 mm a
+    /// tooth, a noise pair, then an exit; the handed tooth, 17 % over the revolution's
+    /// mean, lost 30 % against a share of 0.30, the two-feed exit's; its reach asks 0.32).
+    /// Here 4 flutes of that cut, one 17 % heavy, its tooth's loss handed on by 14 N (3 N
+    /// of noise a tooth: evidence, not a strong pair): armed for it, the share is the exit's
+    /// one feed past the newest tooth and the heavy flute's chip further, `(1 + F_next /
+    /// F_mean + wide)` feeds.
+    #[test]
+    fn a_pair_arms_over_a_heavy_flutes_reach() {
+        let (rr, ra, tc_mm) = (1.0, 0.05, 0.18);
+        let est = EstimatorConfig::default();
+        assert_eq!(est.tool.radius_mm, 8.0);
+        let feed = tc_mm / est.tool.radius_mm;
+        // The case this is about: two feeds' exit under the evidence's least share.
+        assert!(crate::geometry::exit_loss_share(rr, 2.0 * feed) < EVIDENCE_SHARE);
+        let a = AlarmConfig::default().build(&est).unwrap();
+        let f = forces_at(
+            [117.0, 83.0, 100.0, 100.0],
+            3.0,
+            40,
+            &[-14.0, 14.0, 0.0, 0.0],
+        );
+        let mut st = AlarmState::default();
+        for (i, &fx) in f.iter().enumerate() {
+            let rec = ToothRecord {
+                rr,
+                ra,
+                tc_mm,
+                ..record(i, fx, Status::VALID)
+            };
+            assert!(a.process(&mut st, &rec).event.is_none(), "record {i}");
+        }
+        // Armed for tooth 0 on the pair's evidence.
+        assert!(st.handed == Some(0) && !st.handed_strong && st.trip_floor_n().is_finite());
+        let k = f.len() - 1;
+        let ahead = f[k - 3] / (f[k - 3..].iter().sum::<f32>() / 4.0);
+        let span = crate::geometry::engaged_arc_rad(rr) + ra * libm::tanf(30f32.to_radians());
+        let wide = (span - core::f32::consts::FRAC_PI_2) / span;
+        let reach = crate::geometry::exit_loss_share(rr, feed * (1.0 + ahead + wide));
+        assert!(reach > EVIDENCE_SHARE, "{reach}");
+        assert!(
+            (st.trip_share() - reach).abs() < 1e-3,
+            "{} vs {reach}",
+            st.trip_share()
+        );
     }
 
     /// `wide_arc`'s cut spans its arc, `acos(1 - R_r)` = 1.98 rad, and the helix's lag

@@ -1372,6 +1372,18 @@ mod held_out_tests {
         no_alarm_over_noise(Kind::Normal, 34, 3723, 8);
     }
 
+    /// An exit right after a noise pair (3 flutes, down milling, 8 mm, `R_r` 1.0, 0.18 mm a
+    /// tooth, 1 000-1 500 N a tooth): a tooth 92 N down (1.6 sigma_R) and the next 168 N
+    /// up passed as a hand-over's evidence; the exit began in the period after, its first
+    /// tooth 117 N down (hidden under 2 sigma_R), and the handed tooth's period, the
+    /// heaviest flute (17 % over the revolution's mean), armed at 0.30 (the two-feed
+    /// exit's 0.299, under the evidence's least), lost 30 %. Its reach asks 0.32. Seed
+    /// 3804 normal 11, found at seeds 3745-3840 (their first run).
+    #[test]
+    fn an_exit_after_a_pair_is_covered_at_a_heavy_flutes_reach() {
+        no_alarm_over_noise(Kind::Normal, 11, 3804, 8);
+    }
+
     /// A tool lost late in a period (4 flutes, down milling, 1 100 / 590 / 880 / 820 N a
     /// tooth, in the revolutions after the window moved): the drop trip latched 3 ms after
     /// the loss; the tripped period kept 31 % of its force, the next one 1 %, and the rule
