@@ -2796,6 +2796,23 @@ mod tests {
         flagged: &[usize],
         shorter: u32,
     ) -> (AlarmState, usize) {
+        armed_on_arc_at_speed(rr, levels, after, flagged, |i, len| {
+            if i + 4 >= len {
+                shorter
+            } else {
+                0
+            }
+        })
+    }
+
+    /// ... record `i` of `len` shorter by `shorter(i, len)` samples.
+    fn armed_on_arc_at_speed(
+        rr: f32,
+        levels: [f32; 4],
+        after: &[f32],
+        flagged: &[usize],
+        shorter: impl Fn(usize, usize) -> u32,
+    ) -> (AlarmState, usize) {
         let est = EstimatorConfig::default();
         let a = AlarmConfig::default().build(&est).unwrap();
         let mean_n = levels.iter().sum::<f32>() / 4.0;
@@ -2812,9 +2829,7 @@ mod tests {
                 Status::AMBIGUOUS
             };
             let mut rec = record(i, fx, status);
-            if i + 4 >= f.len() {
-                faster(&mut rec, shorter);
-            }
+            faster(&mut rec, shorter(i, f.len()));
             events += usize::from(a.process(&mut st, &rec).event.is_some());
         }
         (st, events)
@@ -3023,24 +3038,13 @@ mod tests {
     /// plain share, or not at all.
     #[test]
     fn a_pair_just_after_a_speed_change_is_no_evidence() {
-        let est = EstimatorConfig::default();
-        let a = AlarmConfig::default().build(&est).unwrap();
         let arming = |ramp: u32| {
-            let f = forces(3.0, 40, &[0.0, -24.0, 24.0, 0.0, 0.0]);
-            let mean_n = RUNOUT_30.iter().sum::<f32>() / 4.0;
-            let mut st = AlarmState {
-                held: Some((0.3, mean_n / a.model_signal(0.3, 1.0, 0.2))),
-                ..AlarmState::default()
-            };
-            for (i, &fx) in f.iter().enumerate() {
-                let mut rec = record(i, fx, Status::AMBIGUOUS);
-                let into_ramp = (i + 17).saturating_sub(f.len()).min(8) as u32;
-                faster(&mut rec, ramp * into_ramp);
-                assert!(
-                    a.process(&mut st, &rec).event.is_none(),
-                    "{ramp}: record {i}"
-                );
-            }
+            let pair = [0.0, -24.0, 24.0, 0.0, 0.0];
+            let into_ramp = |i: usize, len: usize| (i + 17).saturating_sub(len).min(8) as u32;
+            let (st, events) = armed_on_arc_at_speed(0.3, RUNOUT_30, &pair, &[], |i, len| {
+                ramp * into_ramp(i, len)
+            });
+            assert_eq!(events, 0, "{ramp}");
             (st.trip_floor_n(), st.trip_share())
         };
         assert_eq!(arming(0).1, EVIDENCE_SHARE);
