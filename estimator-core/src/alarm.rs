@@ -21,7 +21,11 @@
 //!   alarm on either of:
 //!   - `debounce_teeth` exceedances of `|E_i|` within one revolution, of both signs (a change
 //!     of engagement moves every tooth one way, and a step that falls inside a tooth period
-//!     gives two exceedances of one sign), or one of three times the threshold. The first
+//!     gives two exceedances of one sign), or one of three times the threshold. An
+//!     exceedance right after one of the other sign counts only where `R_i` or `R_{i-2}`
+//!     carries [`MIRROR_SHARE`] of the threshold its way, or `R_{i-1}` passes it alone: one
+//!     tooth's excursion in the noise is `+x, -x` in `E`; a broken flute loses its chip and
+//!     the next tooth takes it. The first
 //!     tooth of a change that is confined to it (the `N - 1` teeth before it unchanged from
 //!     one revolution earlier) counts its exceedance against their growth, not against the
 //!     growth its own drop makes (half of it with 2 flutes); later teeth, and the single
@@ -685,7 +689,9 @@ const E_ALPHA: f32 = 1.0 / 32.0;
 /// variance within about 25 %). At 4, two steady cuts of held-out seeds (15) raised a
 /// false breakage; at 4.5, one in the 15 million teeth of seeds 1-288's normal cuts (seed
 /// 250 normal 84: `E` -40 N and +37.7 N against 35.8 N, the spread 9.0 N over the cut).
-/// For Gaussian noise 5 makes that pair about 30 times rarer.
+/// For Gaussian noise 5 makes that pair about 30 times rarer; [`MIRROR_SHARE`] 12.6 times
+/// rarer again (independent Gaussian `R`, integrated numerically; seed 4002 normal 35: `R`
+/// -44, +92, -41 N against sigma_R 17 N, `E` +136 and -133 N against 123 N).
 const E_SIGMAS: f32 = 5.0;
 /// Where `k F` is under it, each E is clipped at this many of E's running spread in that
 /// spread: Gaussian noise then comes out 5 % low (at `k F` alone, at 0.6 of itself with `k
@@ -694,6 +700,15 @@ const E_SIGMAS: f32 = 5.0;
 /// two revolutions' means (at 3 and 5 they no longer decided the loss of
 /// `a_loss_under_single_teeths_noise_is_decided_on_two_revolutions_means`).
 const E_CLIP_SIGMAS: f32 = 2.0;
+/// Share of the breakage threshold that `R_0` or `R_2` must carry, each in the newest
+/// `E`'s direction, for that `E` to count after an exceedance of the other sign on the
+/// tooth before (see [`E_SIGMAS`]: one tooth's excursion is a pair of `E` of both signs,
+/// `E_1 = R_1 - R_2`, `E_0 = R_0 - R_1`), unless `R_1` alone passes the threshold. A
+/// break's `-L, +(L + G), -G` keeps its pair on either side of the shared tooth: `G` in
+/// `R_0`, or `L` in `R_2`. The likeliest noise that passes then takes three teeth's `R`
+/// at half the threshold `T` each (`0.75 T^2` of squared deviation, against `2/3 T^2` for
+/// `-T/3, +2T/3, -T/3`; `R_1` past `T` alone is `T^2`).
+const MIRROR_SHARE: f32 = 0.5;
 /// The redistribution's floor, in standard deviations of `R`: two teeth's changes of both
 /// signs past it, which one tooth's excursion does not make.
 const R_SIGMAS: f32 = 4.5;
@@ -1251,9 +1266,25 @@ impl Alarms {
                         let threshold = base + common;
                         if e.abs() > base + bit_common {
                             exceeded = true;
-                            if e > 0.0 {
-                                st.exceed_pos |= 1;
+                            // After an exceedance of the other sign on the tooth before,
+                            // `E_1 = R_1 - R_2` and `E_0 = R_0 - R_1` share `R_1`: this one
+                            // counts only where `R_0` or `R_2` carries a share of its own
+                            // (a broken flute's loss `R_2`, its next flute's gain `R_0`),
+                            // or `R_1` alone passes the threshold, past any single tooth's
+                            // noise (the next flute's gain, lagged by the current loop, may
+                            // fall mostly in the window after: seed 3981 break 28).
+                            let (sign, before) = if e > 0.0 {
+                                (1.0, st.exceed_neg)
                             } else {
+                                (-1.0, st.exceed_pos)
+                            };
+                            let r = |k: usize| sign * (st.force(k) - st.force(k + n));
+                            let counts = before & 2 == 0
+                                || crate::fmath::max(r(0), r(2)) > MIRROR_SHARE * base
+                                || -r(1) > base;
+                            if counts && e > 0.0 {
+                                st.exceed_pos |= 1;
+                            } else if counts {
                                 st.exceed_neg |= 1;
                             }
                             let mask = if n >= 32 { u32::MAX } else { (1u32 << n) - 1 };
@@ -4237,15 +4268,40 @@ mod tests {
     /// One tooth's force off by `x` in a steady cut: `E` swings both ways at once (`E_i =
     /// -x`, `E_{i+1} = +x`), a breakage's pattern from a single tooth's noise. Noise 3 N a
     /// tooth: sigma_E 6 N; the threshold `5 sigma_E` (30 N, over `k F` = 21 N) plus the
-    /// revolution mean's change `x / 4`: `x` = 37 N stays under it (at a 4-sigma floor it
-    /// raised), twice that is decided.
+    /// revolution mean's change `x / 4`. `x` = 37 N stays under it (at a 4-sigma floor it
+    /// raised); twice that, past the threshold alone, is decided. Under the threshold with
+    /// the teeth on either side a little the other way, both `E` pass, but the second is
+    /// the first's mirror: one exceedance, not decided, up or down. A broken flute's next
+    /// tooth takes its chip (`R_0`), or the exceedance of the gain came first and the loss
+    /// before it (`R_2`): past [`MIRROR_SHARE`] of the floor, decided.
     #[test]
     fn a_single_tooth_excursion_is_not_a_breakage() {
-        let mut after = [0.0; 12];
-        after[5] = -37.0;
-        assert_eq!(first_breakage(&forces(3.0, 40, &after)), None);
-        after[5] = -74.0;
-        assert!(first_breakage(&forces(3.0, 40, &after)).is_some());
+        let first = |after: &[f32]| {
+            let mut padded = [0.0; 12];
+            padded[..after.len()].copy_from_slice(after);
+            first_breakage(&forces(3.0, 40, &padded))
+        };
+        assert_eq!(first(&[0.0, 0.0, 0.0, 0.0, 0.0, -37.0]), None);
+        assert!(first(&[0.0, 0.0, 0.0, 0.0, 0.0, -74.0]).is_some());
+        for x in [-1.0, 1.0] {
+            let after = [0.0, 0.0, 0.0, 0.0, 10.0 * x, -26.0 * x, 10.0 * x, 0.0, 0.0];
+            assert_eq!(first(&after), None, "{x}");
+        }
+        // The loss, then its gain.
+        for (gain, decided) in [(10.0, false), (20.0, true)] {
+            let after = [0.0, 0.0, 0.0, 0.0, 10.0, -26.0, gain, 0.0, 0.0];
+            assert_eq!(first(&after).is_some(), decided, "gain {gain}");
+        }
+        // The gain first, its loss before it, each under the threshold, the tooth after the
+        // gain down a little. Noise 1 N: the floor `k F` (21.5 N).
+        for (loss, decided) in [(8.0, false), (14.0, true)] {
+            let mut after = [0.0; 12];
+            after[3] = -loss;
+            after[4] = 19.0;
+            after[5] = -8.0;
+            let first = first_breakage(&forces(1.0, 40, &after));
+            assert_eq!(first, decided.then_some(165), "loss {loss}");
+        }
     }
 
     /// A tooth up by a first tooth's share out of quiet teeth is decided (the flute before
