@@ -4276,31 +4276,28 @@ mod tests {
     /// before it (`R_2`): past [`MIRROR_SHARE`] of the floor, decided.
     #[test]
     fn a_single_tooth_excursion_is_not_a_breakage() {
-        let first = |after: &[f32]| {
+        // The first breakage with `after` (padded to 12 teeth) in `noise` N of noise.
+        let first = |noise: f32, after: &[f32]| {
             let mut padded = [0.0; 12];
             padded[..after.len()].copy_from_slice(after);
-            first_breakage(&forces(3.0, 40, &padded))
+            first_breakage(&forces(noise, 40, &padded))
         };
-        assert_eq!(first(&[0.0, 0.0, 0.0, 0.0, 0.0, -37.0]), None);
-        assert!(first(&[0.0, 0.0, 0.0, 0.0, 0.0, -74.0]).is_some());
+        assert_eq!(first(3.0, &[0.0, 0.0, 0.0, 0.0, 0.0, -37.0]), None);
+        assert!(first(3.0, &[0.0, 0.0, 0.0, 0.0, 0.0, -74.0]).is_some());
         for x in [-1.0, 1.0] {
-            let after = [0.0, 0.0, 0.0, 0.0, 10.0 * x, -26.0 * x, 10.0 * x, 0.0, 0.0];
-            assert_eq!(first(&after), None, "{x}");
+            let after = [0.0, 0.0, 0.0, 0.0, 10.0 * x, -26.0 * x, 10.0 * x];
+            assert_eq!(first(3.0, &after), None, "{x}");
         }
         // The loss, then its gain.
         for (gain, decided) in [(10.0, false), (20.0, true)] {
-            let after = [0.0, 0.0, 0.0, 0.0, 10.0, -26.0, gain, 0.0, 0.0];
-            assert_eq!(first(&after).is_some(), decided, "gain {gain}");
+            let after = [0.0, 0.0, 0.0, 0.0, 10.0, -26.0, gain];
+            assert_eq!(first(3.0, &after).is_some(), decided, "gain {gain}");
         }
         // The gain first, its loss before it, each under the threshold, the tooth after the
         // gain down a little. Noise 1 N: the floor `k F` (21.5 N).
         for (loss, decided) in [(8.0, false), (14.0, true)] {
-            let mut after = [0.0; 12];
-            after[3] = -loss;
-            after[4] = 19.0;
-            after[5] = -8.0;
-            let first = first_breakage(&forces(1.0, 40, &after));
-            assert_eq!(first, decided.then_some(165), "loss {loss}");
+            let after = [0.0, 0.0, 0.0, -loss, 19.0, -8.0];
+            assert_eq!(first(1.0, &after), decided.then_some(165), "loss {loss}");
         }
     }
 
