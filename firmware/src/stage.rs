@@ -253,6 +253,7 @@ impl MonitorStage {
 mod tests {
     use super::*;
     use crate::config::BoardConfig;
+    use estimator_core::window::TRACK_DELAY_SAMPLES;
     use estimator_core::Status;
     use std::vec::Vec;
 
@@ -308,13 +309,15 @@ mod tests {
         let cfg = BoardConfig::board_default().build().expect("builds");
         let mut st = MonitorStage::new(cfg.pipeline, cfg.telemetry);
         let frames = run(&mut st, 100, u64::MAX);
-        // 3200 samples, pulses every 100: 31 closed periods.
+        // 3200 samples, pulses every 100: 31 closed periods, each boundary the window
+        // stage's delay after its pulse.
         assert_eq!(frames.len(), 31);
         assert_eq!(st.records(), 31);
+        let delay = TRACK_DELAY_SAMPLES as u64;
         for (i, f) in frames.iter().enumerate() {
             assert_eq!((f.seq, f.index), (i as u32, i as u32));
             assert_eq!(f.record.samples, 100);
-            assert_eq!(f.record.end_sample, 100 * i as u64 + 99);
+            assert_eq!(f.record.end_sample, 100 * i as u64 + 99 + delay);
             assert_eq!(f.counters, Counters::default());
         }
     }
@@ -334,8 +337,10 @@ mod tests {
             .filter(|f| f.record.status.contains(Status::INPUT_FAULT))
             .map(|f| f.record.end_sample)
             .collect();
-        // Samples 1600..1728 are NaN: the periods ending at 1699 and 1799 hold them.
-        assert_eq!(faulted, [1699, 1799]);
+        // Samples 1600..1728 are NaN: the periods from the pulses at 1500, 1600 and 1700
+        // hold them (each boundary the window stage's delay after its pulse).
+        let delay = TRACK_DELAY_SAMPLES as u64;
+        assert_eq!(faulted, [1599 + delay, 1699 + delay, 1799 + delay]);
         assert_eq!(frames.last().map(|f| f.counters.samples_lost), Some(128));
     }
 
