@@ -1284,8 +1284,7 @@ impl Alarms {
                                 (-1.0, st.exceed_pos)
                             };
                             let r = |k: usize| sign * (st.force(k) - st.force(k + n));
-                            let reach = st.force(1 + n) / measured;
-                            let share = if reach > 1.0 { reach } else { 1.0 };
+                            let share = crate::fmath::max(st.force(1 + n) / measured, 1.0);
                             let counts = before & 2 == 0
                                 || crate::fmath::max(r(0), r(2)) > MIRROR_SHARE * base
                                 || -r(1) > base + share * common;

@@ -599,8 +599,9 @@ impl Handover {
         // alignment's, and a trip there was taken on the sample after it passed.
         st.tripped = false;
         st.open = ((closed as usize + advance) % n) as u8;
-        // Measured from the odd period's start as the pulses' tracked times place it (at
-        // the pulse, its boundary lay off them by the encoder's jitter).
+        // Measured from the odd period's start as the pulses' tracked times place it (a
+        // boundary at the pulse lies off them by the encoder's jitter; an aligned one,
+        // `window::TRACK_DELAY_SAMPLES`, does not).
         let len = fmath::max(len, 1.0);
         let offs = st.start_off;
         let off = |t: usize| offs.get(t).copied().unwrap_or(0.0);
