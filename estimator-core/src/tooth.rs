@@ -2,7 +2,9 @@
 //! period out (method.md section 2: the estimator works on per-tooth averages).
 //!
 //! # Design
-//! The mean of every channel over each period between two tooth boundaries. Boundaries
+//! The mean of every channel over each period between two tooth boundaries; a boundary
+//! that falls inside a sample (the window stage's, on the pulses' tracked times) splits
+//! the sample between the two periods by its share of the sample's time. Boundaries
 //! come from the spindle encoder, either one pulse per tooth or one pulse per revolution
 //! with the revolution split into `N` equal parts using the previous revolution's length.
 //! A period is closed, flagged and still emitted when it cannot be trusted:
@@ -84,6 +86,9 @@ pub struct ToothState {
     sample: u64,
     sum: [f32; CHANNELS],
     good: u32,
+    /// The share of the boundary samples that opened and closed the period counted in
+    /// `sum`, less the samples' count in `good` (a boundary splits its sample).
+    split: f32,
     bad: u32,
     /// Samples since the current period started.
     len: u32,
@@ -131,22 +136,24 @@ impl Timing {
     /// closing of a period above all, is out of line.
     #[inline(always)]
     pub fn push(&self, st: &mut ToothState, x: &[f32; CHANNELS], sync: bool) -> Option<Period> {
-        self.push_checked(st, x, sync, true)
+        self.push_checked(st, x, sync.then_some(0.0), true)
     }
 
-    /// [`Self::push`], with the clip test left out when `check_clip` is false: for a
-    /// caller that knows every clip level is infinite, where the test can only catch an
-    /// infinite sample, which the finiteness test catches anyway.
+    /// [`Self::push`], with a boundary (`sync`) that may fall inside the sample: `Some(w)`,
+    /// `w` the share of the sample that ends the period it closes (0: the sample opens the
+    /// next one, as at a pulse). And with the clip test left out when `check_clip` is
+    /// false: for a caller that knows every clip level is infinite, where the test can only
+    /// catch an infinite sample, which the finiteness test catches anyway.
     #[inline(always)]
     pub(crate) fn push_checked(
         &self,
         st: &mut ToothState,
         x: &[f32; CHANNELS],
-        sync: bool,
+        sync: Option<f32>,
         check_clip: bool,
     ) -> Option<Period> {
         // `timeout` fires when the period, with this sample, outgrows `max_period`.
-        let quiet = !sync
+        let quiet = sync.is_none()
             && self.mode == SyncMode::PerTooth
             && !(st.open && st.len.saturating_add(1) > self.max_period);
         if quiet {
@@ -165,18 +172,44 @@ impl Timing {
         &self,
         st: &mut ToothState,
         x: [f32; CHANNELS],
-        sync: bool,
+        sync: Option<f32>,
         check_clip: bool,
     ) -> Option<Period> {
-        let out = match self.mode {
-            SyncMode::PerTooth => self.boundary_per_tooth(st, sync),
-            SyncMode::PerRevolution => self.boundary_per_rev(st, sync),
+        // A boundary inside the sample (its share `w` before the boundary): that share
+        // joins the open period, and leaves the one open after the boundary's test, which
+        // `accumulate` then adds the whole sample to. Where the boundary closed a period,
+        // the new one holds the rest of the sample; where it did not (a glitch), the two
+        // cancel. A bad sample is not split.
+        let w = match sync {
+            Some(w) if w > 0.0 && self.good(&x, check_clip) => w,
+            _ => 0.0,
         };
+        if w > 0.0 {
+            Self::add_share(st, &x, w);
+        }
+        let out = match self.mode {
+            SyncMode::PerTooth => self.boundary_per_tooth(st, sync.is_some()),
+            SyncMode::PerRevolution => self.boundary_per_rev(st, sync.is_some()),
+        };
+        if w > 0.0 {
+            Self::add_share(st, &x, -w);
+        }
         // The sample that carries the pulse belongs to the new period.
         self.accumulate(st, &x, check_clip);
         let out = out.or_else(|| self.timeout(st));
         st.sample = st.sample.wrapping_add(1);
         out
+    }
+
+    /// Whether a sample goes into the sums: finite and not clipped.
+    #[inline(always)]
+    fn good(&self, x: &[f32; CHANNELS], check_clip: bool) -> bool {
+        let clipped = check_clip
+            && (x[0].abs() >= self.clip[0]
+                || x[1].abs() >= self.clip[1]
+                || x[4].abs() >= self.clip[2]);
+        // `is_finite` on the sum of all channels catches any NaN/inf with one test.
+        (x[0] + x[1] + x[2] + x[3] + x[4]).is_finite() && !clipped
     }
 
     #[inline(always)]
@@ -186,13 +219,7 @@ impl Timing {
         }
         st.len = st.len.saturating_add(1);
         st.since_rev = st.since_rev.saturating_add(1);
-        let clipped = check_clip
-            && (x[0].abs() >= self.clip[0]
-                || x[1].abs() >= self.clip[1]
-                || x[4].abs() >= self.clip[2]);
-        // `is_finite` on the sum of all channels catches any NaN/inf with one test.
-        let finite = (x[0] + x[1] + x[2] + x[3] + x[4]).is_finite();
-        if finite && !clipped {
+        if self.good(x, check_clip) {
             for (s, v) in st.sum.iter_mut().zip(x) {
                 *s += v;
             }
@@ -200,6 +227,16 @@ impl Timing {
         } else {
             st.bad = st.bad.saturating_add(1);
         }
+    }
+
+    /// Adds `w` of the sample `x` to the open period's sums. (Out of line: it runs only at
+    /// a boundary, and inlined twice it cost half a kilobyte of flash.)
+    #[inline(never)]
+    fn add_share(st: &mut ToothState, x: &[f32; CHANNELS], w: f32) {
+        for (s, v) in st.sum.iter_mut().zip(x) {
+            *s += w * v;
+        }
+        st.split += w;
     }
 
     #[inline(always)]
@@ -280,6 +317,7 @@ impl Timing {
         st.open = true;
         st.sum = [0.0; CHANNELS];
         st.good = 0;
+        st.split = 0.0;
         st.bad = 0;
         st.len = 0;
         st.glitch = false;
@@ -306,11 +344,8 @@ impl Timing {
             status.set_if(jump > allowed, Status::PERIOD_INVALID);
         }
         status.set_if(st.bad > 0, Status::INPUT_FAULT);
-        let inv = if st.good > 0 {
-            1.0 / st.good as f32
-        } else {
-            0.0
-        };
+        let weight = st.good as f32 + st.split;
+        let inv = if weight > 0.0 { 1.0 / weight } else { 0.0 };
         let p = Period {
             end_sample: end,
             samples: len,
@@ -403,6 +438,64 @@ mod tests {
             }
         }
         out
+    }
+
+    /// A boundary inside a sample (at time `j - 1/2 + w` of the sample `j`, which stands
+    /// for `j - 1/2` to `j + 1/2`) splits it: each period's mean is the signal's mean
+    /// between its two boundary times, against a brute-force integral of the held samples.
+    /// Per tooth and, at the revolution's pulse, per revolution; a bad sample at a boundary
+    /// is not split (the new period leaves it out).
+    #[test]
+    fn a_boundary_inside_a_sample_splits_it_between_the_periods() {
+        let value = |i: u32| ((i * 37 + 11) % 23) as f32 * 0.1 + (i / 97) as f32 * 0.5;
+        // (sample, share before the boundary): the first opens the first period.
+        let bounds: Vec<(u32, f32)> = (0..9)
+            .map(|k| (7 + k * 97 + k % 3, [0.25, 0.0, 0.8, 0.5][k as usize % 4]))
+            .collect();
+        let time = |(j, w): (u32, f32)| j as f64 - 0.5 + w as f64;
+        let integral = |a: f64, b: f64| {
+            let steps = ((b - a) * 1000.0) as usize;
+            let h = (b - a) / steps as f64;
+            (0..steps)
+                .map(|s| value((a + (s as f64 + 0.5) * h + 0.5).floor() as u32) as f64 * h)
+                .sum::<f64>()
+                / (b - a)
+        };
+        for mode in [SyncMode::PerTooth, SyncMode::PerRevolution] {
+            let t = Timing {
+                teeth: 1,
+                ..timing(mode)
+            };
+            let mut st = ToothState::default();
+            let mut got = Vec::new();
+            for i in 0..bounds.last().map_or(0, |b| b.0 + 1) {
+                let sync = bounds.iter().find(|b| b.0 == i).map(|b| b.1);
+                let mut x = [value(i), 0.0, 0.0, 0.0, 0.0];
+                if i == bounds[5].0 {
+                    x[1] = f32::NAN;
+                }
+                if let Some(p) = t.push_checked(&mut st, &x, sync, true) {
+                    got.push(p);
+                }
+            }
+            assert_eq!(got.len(), bounds.len() - 1, "{mode:?}");
+            for (k, p) in got.iter().enumerate() {
+                let (a, b) = (bounds[k], bounds[k + 1]);
+                // Around the bad sample: left out whole, by the period it opens.
+                let (ta, tb) = match k {
+                    4 => (time(a), b.0 as f64 - 0.5),
+                    5 => (a.0 as f64 + 0.5, time(b)),
+                    _ => (time(a), time(b)),
+                };
+                let want = integral(ta, tb);
+                assert!(
+                    (p.mean[0] as f64 - want).abs() < 1e-4 * want.abs().max(1.0),
+                    "{mode:?} period {k}: {} against {want}",
+                    p.mean[0]
+                );
+                assert_eq!(p.samples, b.0 - a.0, "{mode:?} period {k}");
+            }
+        }
     }
 
     #[test]

@@ -18,12 +18,15 @@
 //! [`TRACK_DELAY_SAMPLES`] after the tracked time, so that a tracked time before its
 //! pulse is still a boundary. An encoder pulse a sample early or late moves a boundary
 //! inside a flute's cut and with it force from one tooth average to the next, a
-//! breakage's pattern in small; tracked, the boundaries scatter by a third of the pulses'
-//! mean square (rounding to whole samples included). At the pulse, where a cut's steep
+//! breakage's pattern in small; tracked, the boundaries scatter by a fifth of the pulses'
+//! mean square. At the pulse, where a cut's steep
 //! edge lay at the boundary, the jitter alone made more of the noise of a tooth's change
 //! from one revolution to the next than the sensors' (seed 4682 break 8, boundary at the
 //! pulse: its spread 15.5 N with the jitter and no sensor noise, 8.5 N the other way
-//! round). A speed ramp is followed about a sample behind (5 % of the speed in 0.2 s at
+//! round). The boundary falls between samples: the tooth stage splits the sample it falls
+//! in between the two periods. Rounded to whole samples, its error of up to half a sample
+//! moved force between the averages as the jitter did (seed 46 break 45, no sensor noise:
+//! the spread 18.1 N rounded, 5.1 N split). A speed ramp is followed about a sample behind (5 % of the speed in 0.2 s at
 //! 140 samples a tooth: the interval's weight over the ramp's change per pulse squared,
 //! 1.6 samples of error, three quarters of it kept). With [`Window::align`] off the
 //! window begins at the pulse itself.
@@ -47,6 +50,7 @@
 //! the drop trip keeps a reference. The period after it is judged against the length before
 //! the move, not against the odd one (`Timing::odd_period`).
 
+use crate::fmath;
 use crate::status::Status;
 use crate::tooth::CHANNELS;
 
@@ -107,8 +111,9 @@ pub struct WindowState {
     phase: u16,
     /// Moves so far (wrapping), and the move each pending pulse was delayed under.
     epoch: u8,
-    /// Delayed pulses to come: samples left (0: slot free), epoch.
-    pending: [(u32, u8); 2],
+    /// Delayed pulses to come: samples left (0: slot free), epoch, the boundary's share
+    /// of the sample it falls in that comes before it.
+    pending: [(u32, u8, f32); 2],
     /// Epoch of the last delayed pulse fired.
     fired_epoch: u8,
     /// The boundary moved: flag the next period that closes.
@@ -145,15 +150,17 @@ impl WindowState {
 
 impl Window {
     /// The sync line as the tooth stage sees it: `sync` delayed by the boundary's phase.
+    /// `Some(w)` where a boundary falls in this sample, `w` the share of the sample before
+    /// it (the sample at index `j` stands for the times `j - 1/2` to `j + 1/2`).
     #[inline(always)]
-    pub fn delay(&self, st: &mut WindowState, sync: bool) -> bool {
-        let mut fire = false;
+    pub fn delay(&self, st: &mut WindowState, sync: bool) -> Option<f32> {
+        let mut fire = None;
         if st.pending[0].0 | st.pending[1].0 != 0 {
-            for (left, epoch) in st.pending.iter_mut() {
+            for (left, epoch, w) in st.pending.iter_mut() {
                 if *left != 0 {
                     *left -= 1;
                     if *left == 0 {
-                        fire = true;
+                        fire = Some(*w);
                         if *epoch != st.fired_epoch {
                             st.fired_epoch = *epoch;
                             st.moved = true;
@@ -181,28 +188,31 @@ impl Window {
                 st.offset = -(1.0 - TRACK_ALPHA) * e;
             }
             let tooth_len = self.tracked_len(st);
-            // An aligned boundary follows the pulses' tracked times. Rounded; `as u32`
+            // An aligned boundary follows the pulses' tracked times, to a fraction of a
+            // sample: the sample it falls in is split between the two periods. `as u32`
             // saturates (and takes NaN and a negative delay to 0).
-            let d = if self.align {
-                (st.phase as f32 * (1.0 / 65536.0) * tooth_len
+            let (d, w) = if self.align {
+                let t = st.phase as f32 * (1.0 / 65536.0) * tooth_len
                     + st.offset
                     + TRACK_DELAY_SAMPLES
-                    + 0.5) as u32
+                    + 0.5;
+                let d = t as u32;
+                (d, fmath::min(fmath::max(t - d as f32, 0.0), 1.0))
             } else {
-                0
+                (0, 0.0)
             };
             if d == 0 {
-                fire = true;
+                fire = Some(w);
                 if st.epoch != st.fired_epoch {
                     st.fired_epoch = st.epoch;
                     st.moved = true;
                 }
             } else if let Some(slot) = st.pending.iter_mut().find(|p| p.0 == 0) {
-                *slot = (d, st.epoch);
+                *slot = (d, st.epoch, w);
             } else {
                 // Pulses closer than the delay twice over: a burst of glitches. This one
                 // goes through undelayed; the tooth stage flags it as a glitch.
-                fire = true;
+                fire = Some(0.0);
             }
         }
         fire
@@ -380,7 +390,7 @@ mod tests {
     /// Samples at which `delay` fires, for pulses at `pulses` (sorted) over `len` samples.
     fn fired(w: &Window, st: &mut WindowState, pulses: &[usize], len: usize) -> Vec<usize> {
         (0..len)
-            .filter(|i| w.delay(st, pulses.contains(i)))
+            .filter(|i| w.delay(st, pulses.contains(i)).is_some())
             .collect()
     }
 
@@ -453,6 +463,44 @@ mod tests {
             ms < 0.5 * pulse_ms,
             "boundaries {ms} against pulses {pulse_ms} (samples^2)"
         );
+    }
+
+    /// On a grid of pulses a fraction of a sample long (79.37 samples, each pulse rounded to
+    /// its sample and jittered by a sample either way), the boundaries fall between samples
+    /// on the tracked times: as times (`j - 1/2 + w`) they scatter about the grid, delayed by
+    /// `TRACK_DELAY_SAMPLES`, by less than the same boundaries rounded to whole samples do:
+    /// rounding adds a uniform error of a sample's width, 1/12 samples^2 (0.158 against
+    /// 0.234 here).
+    #[test]
+    fn boundaries_fall_between_samples_on_the_tracked_times() {
+        let w = window(1);
+        let mut st = WindowState::default();
+        let period = 79.37;
+        let mut x = 12345u32;
+        let mut jitter = || {
+            x = x.wrapping_mul(1_103_515_245).wrapping_add(12_345);
+            ((x >> 16) % 3) as f64 - 1.0
+        };
+        let pulses: Vec<usize> = (0..400)
+            .map(|k| (13.0 + k as f64 * period + jitter()).round() as usize)
+            .collect();
+        let times: Vec<(usize, f32)> = (0..400 * 80)
+            .filter_map(|i| w.delay(&mut st, pulses.contains(&i)).map(|w| (i, w)))
+            .collect();
+        // Mean square about the grid, past the first 20 (the interval's average settles).
+        let scatter = |t: &dyn Fn(&(usize, f32)) -> f64| {
+            let dev: Vec<f64> = times
+                .iter()
+                .map(|b| t(b) - 13.0 - f64::from(TRACK_DELAY_SAMPLES))
+                .map(|d| d - (d / period).round() * period)
+                .skip(20)
+                .collect();
+            assert!(dev.len() > 350, "{}", dev.len());
+            dev.iter().map(|d| d * d).sum::<f64>() / dev.len() as f64
+        };
+        let split = scatter(&|&(j, w)| j as f64 - 0.5 + f64::from(w));
+        let whole = scatter(&|&(j, _)| j as f64);
+        assert!(whole - split > 0.06, "{split} against {whole} samples^2");
     }
 
     /// Unaligned, the boundary at the pulse lies off the pulses' tracked times by the part

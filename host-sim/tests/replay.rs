@@ -495,49 +495,56 @@ fn command_line_writes_records_plot_and_bin() {
 /// cause: the summary's alarm time and latency, the events CSV's `latched_s` and the
 /// plot's alarm line run to the sample where the output latched, the first one after
 /// which a sample-by-sample run of the same trace finds the alarm state latched; the
-/// naming record's time stays in `time_s`.
+/// naming record's time stays in `time_s`. On the first break case at seed 1 whose alarm
+/// latched inside a period (which the rules on the records catch first moves with them).
 #[test]
 fn a_drop_trip_is_reported_where_the_output_latched() {
-    let case = draw_case(Kind::Break, 0, 1).expect("a break case");
     let dir = scratch("replay-trip");
     let trace = dir.join("trace.csv");
-    let f = std::io::BufWriter::new(std::fs::File::create(&trace).expect("create"));
-    host_sim::sim::write_trace(&case.scenario, f).expect("simulate");
-    let machine = MachineConfig {
-        monitor: case.machine.monitor.clone(),
-        alarms: case.machine.alarms,
-        front_end: FrontEnd::default(),
-    };
-    let pipeline = machine.clone().build().expect("builds");
-    let mut st = PipelineState::default();
-    let mut rd = TraceReader::open(&trace).expect("open");
-    let mut first = None;
-    while let Some(row) = rd.next_row().expect("row") {
-        let _ = pipeline.process(&mut st, &row.to_sample());
-        if first.is_none() && st.alarms.output_latched() {
-            first = Some(row.time_s);
+    let replayed = |index: usize| {
+        let case = draw_case(Kind::Break, index, 1).expect("a break case");
+        let f = std::io::BufWriter::new(std::fs::File::create(&trace).expect("create"));
+        host_sim::sim::write_trace(&case.scenario, f).expect("simulate");
+        let machine = MachineConfig {
+            monitor: case.machine.monitor.clone(),
+            alarms: case.machine.alarms,
+            front_end: FrontEnd::default(),
+        };
+        let pipeline = machine.clone().build().expect("builds");
+        let mut st = PipelineState::default();
+        let mut rd = TraceReader::open(&trace).expect("open");
+        let mut first = None;
+        while let Some(row) = rd.next_row().expect("row") {
+            let _ = pipeline.process(&mut st, &row.to_sample());
+            if first.is_none() && st.alarms.output_latched() {
+                first = Some(row.time_s);
+            }
         }
-    }
-    let first = first.expect("the output latched");
+        let first = first.expect("the output latched");
 
-    let mut rd = TraceReader::open(&trace).expect("open");
-    let outputs = ReplayOutputs {
-        plot: true,
-        alarms: machine.alarms,
-        events: true,
+        let mut rd = TraceReader::open(&trace).expect("open");
+        let outputs = ReplayOutputs {
+            plot: true,
+            alarms: machine.alarms,
+            events: true,
+        };
+        let (sum, plot, events) = replay_to(
+            &mut rd,
+            &machine.monitor,
+            std::io::sink(),
+            RecordFormat::Csv,
+            &outputs,
+            None,
+        )
+        .expect("replay");
+        (first, sum, plot, events)
     };
-    let (sum, plot, events) = replay_to(
-        &mut rd,
-        &machine.monitor,
-        std::io::sink(),
-        RecordFormat::Csv,
-        &outputs,
-        None,
-    )
-    .expect("replay");
+    let (first, sum, plot, events) = (0..40)
+        .map(replayed)
+        .find(|r| r.1.first_alarm.is_some_and(|a| a.latched_s < a.time_s))
+        .expect("a trip inside a period in the first 40 break cases");
     let a = sum.first_alarm.expect("an alarm");
     let close = |x: f64| (x - first).abs() < 1e-6;
-    assert!(a.latched_s < a.time_s, "a trip inside a period: {a:?}");
     assert!(close(a.latched_s), "{} vs {first}", a.latched_s);
     let damage = sum.damage_s.expect("the truth shows the break");
     assert_eq!(a.latency_s, Some(a.latched_s - damage));
