@@ -180,8 +180,9 @@ impl Timing {
         // `accumulate` then adds the whole sample to. Where the boundary closed a period,
         // the new one holds the rest of the sample; where it did not (a glitch), the two
         // cancel. A bad sample is not split.
+        let good = self.good(&x, check_clip);
         let w = match sync {
-            Some(w) if w > 0.0 && self.good(&x, check_clip) => w,
+            Some(w) if w > 0.0 && good => w,
             _ => 0.0,
         };
         if w > 0.0 {
@@ -195,7 +196,7 @@ impl Timing {
             Self::add_share(st, &x, -w);
         }
         // The sample that carries the pulse belongs to the new period.
-        self.accumulate(st, &x, check_clip);
+        self.add(st, &x, good);
         let out = out.or_else(|| self.timeout(st));
         st.sample = st.sample.wrapping_add(1);
         out
@@ -214,12 +215,22 @@ impl Timing {
 
     #[inline(always)]
     fn accumulate(&self, st: &mut ToothState, x: &[f32; CHANNELS], check_clip: bool) {
+        // (The sample's tests only for an open period: the common path.)
+        if st.open {
+            self.add(st, x, self.good(x, check_clip));
+        }
+    }
+
+    /// Adds the sample `x` to the open period: to its sums if it is `good`, else to its
+    /// count of bad samples.
+    #[inline(always)]
+    fn add(&self, st: &mut ToothState, x: &[f32; CHANNELS], good: bool) {
         if !st.open {
             return;
         }
         st.len = st.len.saturating_add(1);
         st.since_rev = st.since_rev.saturating_add(1);
-        if self.good(x, check_clip) {
+        if good {
             for (s, v) in st.sum.iter_mut().zip(x) {
                 *s += v;
             }

@@ -19,17 +19,17 @@
 //! pulse is still a boundary. An encoder pulse a sample early or late moves a boundary
 //! inside a flute's cut and with it force from one tooth average to the next, a
 //! breakage's pattern in small; tracked, the boundaries scatter by a fifth of the pulses'
-//! mean square. At the pulse, where a cut's steep
-//! edge lay at the boundary, the jitter alone made more of the noise of a tooth's change
-//! from one revolution to the next than the sensors' (seed 4682 break 8, boundary at the
-//! pulse: its spread 15.5 N with the jitter and no sensor noise, 8.5 N the other way
-//! round). The boundary falls between samples: the tooth stage splits the sample it falls
-//! in between the two periods. Rounded to whole samples, its error of up to half a sample
-//! moved force between the averages as the jitter did (seed 46 break 45, no sensor noise:
-//! the spread 18.1 N rounded, 5.1 N split). A speed ramp is followed about a sample behind (5 % of the speed in 0.2 s at
-//! 140 samples a tooth: the interval's weight over the ramp's change per pulse squared,
-//! 1.6 samples of error, three quarters of it kept). With [`Window::align`] off the
-//! window begins at the pulse itself.
+//! mean square. At the pulse, where a cut's steep edge lay at the boundary, the jitter
+//! alone made more of the noise of a tooth's change from one revolution to the next than
+//! the sensors' (seed 4682 break 8, boundary at the pulse: its spread 15.5 N with the
+//! jitter and no sensor noise, 8.5 N the other way round). The boundary falls between
+//! samples: the tooth stage splits the sample it falls in between the two periods.
+//! Rounded to whole samples, its error of up to half a sample moved force between the
+//! averages as the jitter did (seed 46 break 45, no sensor noise: the spread 18.1 N
+//! rounded, 5.1 N split). A speed ramp is followed about a sample behind (5 % of the
+//! speed in 0.2 s at 140 samples a tooth: the interval's weight over the ramp's change
+//! per pulse squared, 1.6 samples of error, three quarters of it kept). With
+//! [`Window::align`] off the window begins at the pulse itself.
 //!
 //! Learning: per sample, the raw feed and spindle channels are summed into
 //! [`PROFILE_BINS`] bins of the open tooth period. After [`REVIEW_REVS`] revolutions of
@@ -421,21 +421,22 @@ mod tests {
         dev.iter().map(|d| (d * d) as f64).sum::<f64>() / dev.len() as f64
     }
 
-    /// Pulses off a 79-sample grid by -1, 0 or +1 sample (a fixed pseudo-random pattern),
-    /// and their mean square off it [samples^2].
-    fn jittered() -> (Vec<usize>, f64) {
+    /// Pulses off a grid of `period` samples by -1, 0 or +1 sample (a fixed pseudo-random
+    /// pattern), each rounded to its sample, and their mean square off the grid
+    /// [samples^2].
+    fn jittered(period: f64) -> (Vec<usize>, f64) {
         let mut x = 12345u32;
         let mut jitter = || {
             x = x.wrapping_mul(1_103_515_245).wrapping_add(12_345);
-            ((x >> 16) % 3) as i64 - 1
+            ((x >> 16) % 3) as f64 - 1.0
         };
         let pulses: Vec<usize> = (0..400)
-            .map(|k| (13 + k as i64 * 79 + jitter()) as usize)
+            .map(|k| (13.0 + k as f64 * period + jitter()).round() as usize)
             .collect();
         let pulse_ms = pulses
             .iter()
             .enumerate()
-            .map(|(k, &p)| (p as i64 - 13 - k as i64 * 79).pow(2) as f64)
+            .map(|(k, &p)| (p as f64 - 13.0 - k as f64 * period).powi(2))
             .sum::<f64>()
             / pulses.len() as f64;
         (pulses, pulse_ms)
@@ -456,7 +457,7 @@ mod tests {
         assert!(!w.take_moved(&mut st));
 
         let mut st = WindowState::default();
-        let (pulses, pulse_ms) = jittered();
+        let (pulses, pulse_ms) = jittered(79.0);
         let got = fired(&w, &mut st, &pulses, 400 * 79);
         let ms = scatter_about_grid(&got, delay as i64);
         assert!(
@@ -476,14 +477,7 @@ mod tests {
         let w = window(1);
         let mut st = WindowState::default();
         let period = 79.37;
-        let mut x = 12345u32;
-        let mut jitter = || {
-            x = x.wrapping_mul(1_103_515_245).wrapping_add(12_345);
-            ((x >> 16) % 3) as f64 - 1.0
-        };
-        let pulses: Vec<usize> = (0..400)
-            .map(|k| (13.0 + k as f64 * period + jitter()).round() as usize)
-            .collect();
+        let (pulses, _) = jittered(period);
         let times: Vec<(usize, f32)> = (0..400 * 80)
             .filter_map(|i| w.delay(&mut st, pulses.contains(&i)).map(|w| (i, w)))
             .collect();
@@ -621,7 +615,7 @@ mod tests {
             phase: 0xA800,
             ..WindowState::default()
         };
-        let (pulses, pulse_ms) = jittered();
+        let (pulses, pulse_ms) = jittered(79.0);
         let got = fired(&w, &mut st, &pulses, 400 * 79);
         let delay = (0.65625 * 79.0 + TRACK_DELAY_SAMPLES + 0.5) as i64;
         let ms = scatter_about_grid(&got, delay);
