@@ -554,7 +554,9 @@ impl Handover {
                 }
                 // The reference: blended in a steady cut, else replaced (the module's
                 // "Reference"; a NaN change replaces it). `var[0]` is the whole change's.
-                let measured = st.filled & (1 << slot) != 0 && st.recut_rows & (1 << slot) == 0;
+                let change_ok = st.filled & (1 << slot) != 0;
+                let against_recut = st.recut_rows & (1 << slot) != 0;
+                let measured = change_ok && !against_recut;
                 let whole = (period - before) * (1.0 / BINS as f32);
                 let quiet = whole * whole <= BLEND_VARIANCES * st.var[0];
                 let blend = measured && quiet && st.shift == 0.0 && st.var_count >= WARM_TEETH;
@@ -568,8 +570,8 @@ impl Handover {
                     *t = period;
                 }
                 st.kept = kept;
-                st.change_ok = st.filled & (1 << slot) != 0;
-                st.against_recut = st.recut_rows & (1 << slot) != 0;
+                st.change_ok = change_ok;
+                st.against_recut = against_recut;
                 st.recut_rows &= !(1 << slot);
                 // (Only a period that reached its last bin: one cut short by a glitch
                 // holds its last complete bin's mean in the bins it never reached.)
