@@ -135,8 +135,12 @@
 //!     period (mixed alignments, its loss unmeasured), the gain alone past 4.5 sigma_R
 //!     (an exit never gains); the periods since the move as long as as many before it;
 //!     its noise figure from the revolution mean before the move (the gaining tooth's own
-//!     force would widen it). Past three times the threshold of `E` (its noise the gain's
-//!     own, `R`'s, where it is alone) it raises at once, as `E` does. The monitor passes
+//!     force would widen it). Past three times the threshold of `E` it raises at once, as
+//!     `E` does; the gain alone after the odd period past the first-tooth rule's 35 % of
+//!     the tooth's profile and 6 sigma_R (the teeth before the move were a steady cut).
+//!     The record after that revolution takes the same pair with its own change on the
+//!     records and the tooth before's on its re-cut profile (its period a revolution
+//!     earlier was the odd one): the rules on the records take no pair there yet. The monitor passes
 //!     the trip only while the feed speed holds (a feed hold thins every chip at once).
 //!     The trip latches the output at once (the event keeps that sample); the records
 //!     after it name the cause: a rule that raises on them (no breakage on a tooth that
@@ -1485,6 +1489,10 @@ impl Alarms {
         // after a moved window, from the first record: the hand-over stage's re-cut
         // profiles are the reference, and it checks the periods since for a loss.
         let since_move = (!st.armed).trailing_zeros() as usize;
+        // The record after that revolution: its own change from a revolution earlier is on
+        // the records, the one before's only against its re-cut profile (its period then
+        // was the odd one), and the rules on the records cannot take that pair yet.
+        let bridging = st.realigned && since_move == n + 1;
         let fresh = st.realigned && since_move <= n;
         st.realigned = fresh;
         // (The revolution before the move where the newest has none: a tooth's own force,
@@ -1509,15 +1517,23 @@ impl Alarms {
             && deciding
             && st.latched.is_none()
             && st.trip.is_none()
-            && (fresh || !rec.status.contains(Status::TRANSIENT))
+            && (fresh || bridging || !rec.status.contains(Status::TRANSIENT))
             && self.cfg.breakage.signal == BreakageSignal::Resultant
         {
             if let Some(var) = noise {
                 let var_r = 0.5 * var;
                 let sigma_r = libm::sqrtf(var_r);
                 let next = (rec.tooth as usize + 1) % n.max(1);
-                if fresh {
-                    let (changes, figures) = ((before_recut, recut_n), (var_r, level));
+                // (Bridging: the newest's change a revolution back, as a tangential
+                // change, as the re-cut's are. Seed 5147 break 8, 2 flutes: broken in the
+                // first period after the move, the next tooth 90 % up on its second.)
+                let change = if bridging && rec.f2_n > 0.0 && f > 0.0 {
+                    (st.force(0) - st.force(n)) * rec.f2_n / f
+                } else {
+                    recut_n
+                };
+                if fresh || bridging && before_recut.is_finite() {
+                    let (changes, figures) = ((before_recut, change), (var_r, level));
                     if let Some((e, t)) = self.handed_after_move(st, rec, f, changes, figures) {
                         raise(Cause::Breakage, e, t);
                     }
@@ -2119,8 +2135,10 @@ impl Alarms {
     /// and the gain alone passes [`EVIDENCE_SIGMAS`]: an exit never gains, and a flute
     /// broken in the odd period hands its chip to the next one's first period (seed 2459
     /// break 73, 4 flutes: 40 % up, then the broken flute's period armed at the plain
-    /// share tripped a sample past its revolution). `(value, threshold)` where it raises
-    /// a breakage at once (`level`: the revolution mean where there is no estimate).
+    /// share tripped a sample past its revolution). And on the record after that
+    /// revolution, `recut_n` its change on the records (as a tangential change). `(value,
+    /// threshold)` where it raises a breakage at once (`level`: the revolution mean where
+    /// there is no estimate).
     #[cold]
     #[inline(never)]
     fn handed_after_move(
@@ -2170,6 +2188,17 @@ impl Alarms {
             let var_e = if odd { var_r } else { 2.0 * var_r };
             let floor = E_SIGMAS * libm::sqrtf(var_e);
             let threshold = crate::fmath::max(self.cfg.breakage.threshold_rel * expected, floor);
+            // After the odd period the gain alone raises as a first tooth does
+            // (`first_tooth`): the teeth before the move were a steady cut (it is made
+            // out of one), and the flute broken in the odd period left its whole chip to
+            // this one (seed 5089 break 34: 52 % up, against three times the threshold).
+            let first = crate::fmath::max(
+                FIRST_TOOTH_SHARE * (f - r0),
+                FIRST_TOOTH_SIGMAS * libm::sqrtf(var_r),
+            );
+            if odd && both > first {
+                return Some((both, first));
+            }
             return (both > SINGLE_EXCEEDANCE * threshold).then_some((both, threshold));
         }
         None
@@ -3822,8 +3851,12 @@ mod tests {
                 let moved = Status(Status::WINDOW_MOVED.0 | Status::PERIOD_INVALID.0);
                 let mut rec = record(i, 0.0, if i == at { moved } else { Status::AMBIGUOUS });
                 // (The tangential channel alone: the watched force is it, and so is the
-                // re-cut change.)
-                rec.f2_n = force;
+                // re-cut change, which the record carries.)
+                rec.f2_n = if i == at + 1 && first.is_finite() {
+                    force + first
+                } else {
+                    force
+                };
                 rec.samples = match i {
                     _ if i == at => 375,
                     _ if i > at => len,
@@ -3874,13 +3907,84 @@ mod tests {
                 "{first} {len}: {floor} {share}"
             );
         }
-        // Three times `E`'s threshold on the revolution mean (no estimate), its noise
-        // floor `R`'s: raised at the gain.
+        // Raised at the gain as a first tooth is: past `FIRST_TOOTH_SHARE` of the gaining
+        // tooth's profile (its force less the gain) and `FIRST_TOOTH_SIGMAS` sigma_R; under
+        // both, armed as above. Three times `E`'s threshold (on the revolution mean, no
+        // estimate; its noise floor `R`'s), which alone raised before, lies far above.
+        let first = (FIRST_TOOTH_SHARE * f[at + 1]).max(FIRST_TOOTH_SIGMAS * sigma_r);
         let mean = RUNOUT_30.iter().sum::<f32>() / 4.0;
         let k = AlarmConfig::default().breakage.threshold_rel;
         let limit = SINGLE_EXCEEDANCE * (k * mean).max(E_SIGMAS * sigma_r);
-        assert_eq!(run(1.05 * limit, 250).1, Some((at + 1, Cause::Breakage)));
-        assert_eq!(run(0.95 * limit, 250).1, None);
+        assert!(first < 0.7 * limit, "{first} {limit}");
+        assert_eq!(run(1.05 * first, 250).1, Some((at + 1, Cause::Breakage)));
+        let (armed, none) = run(0.95 * first, 250);
+        assert_eq!(none, None);
+        assert!(armed[at + 3].0 < plain.0, "{:?}", armed[at + 3]);
+    }
+
+    /// The record after the revolution that follows a moved window: its change from a
+    /// revolution earlier is on the records, but the tooth before it had the odd period
+    /// then, and its change is known only against its re-cut profile. That pair (a loss
+    /// there, this tooth's gain) is taken as in the revolution before: raised past three
+    /// times `E`'s threshold. Not without the loss (a gain alone is `R`'s, no pair).
+    #[test]
+    fn a_pair_across_a_move_is_taken_on_the_record_after_its_revolution() {
+        let est = EstimatorConfig::default();
+        let a = AlarmConfig::default().build(&est).unwrap();
+        let f = forces(3.0, 42, &[]);
+        let at = 40 * 4;
+        let (bridge, before) = (at + 5, at + 4);
+        // The first breakage raised, where the tooth before the bridging record lost
+        // `loss` in its first period since the move (on its re-cut profile and its record
+        // alike) and the bridging record's tooth gained `gain` on its record; and `E`'s
+        // threshold there, three times over: `k` of the revolution mean (no estimate) or 5
+        // of the pair's noise (two teeth's `R`), the wider.
+        let run = |loss: f32, gain: f32| {
+            let mut st = AlarmState::default();
+            let (mut raised, mut limit) = (None, f32::NAN);
+            for (i, &force) in f.iter().enumerate() {
+                let moved = Status(Status::WINDOW_MOVED.0 | Status::PERIOD_INVALID.0);
+                let mut rec = record(i, 0.0, if i == at { moved } else { Status::AMBIGUOUS });
+                rec.samples = if i == at { 375 } else { 250 };
+                rec.f2_n = force
+                    + match i {
+                        _ if i == before => -loss,
+                        _ if i == bridge => gain,
+                        _ => 0.0,
+                    };
+                if i == bridge {
+                    let mean = (1..4).map(|k| st.force(k - 1)).sum::<f32>() + rec.f2_n;
+                    let var_r = 0.5 * a.decision_var(&st, mean / 4.0).unwrap();
+                    let k = a.config().breakage.threshold_rel;
+                    let floor = E_SIGMAS * libm::sqrtf(2.0 * var_r);
+                    limit = SINGLE_EXCEEDANCE * (k * mean / 4.0).max(floor);
+                }
+                let recut = match i - at.min(i) {
+                    1..=3 => 0.0,
+                    4 => -loss,
+                    _ => f32::NAN,
+                };
+                let ev = a
+                    .process_with(&mut st, &rec, None, (recut, 0.0), &mut NoProbe)
+                    .event;
+                if let (None, Some(e)) = (raised, ev) {
+                    raised = Some((i, e.cause));
+                }
+            }
+            (raised, limit)
+        };
+        let limit = run(0.0, 0.0).1;
+        assert!(limit.is_finite());
+        let half = |share: f32| 0.5 * share * limit;
+        assert_eq!(
+            run(half(1.05), half(1.05)).0,
+            Some((bridge, Cause::Breakage))
+        );
+        assert_ne!(
+            run(half(0.95), half(0.95)).0,
+            Some((bridge, Cause::Breakage))
+        );
+        assert_ne!(run(0.0, 1.1 * limit).0, Some((bridge, Cause::Breakage)));
     }
 
     /// A trip latches the output at once; the records after it name the cause: the next
