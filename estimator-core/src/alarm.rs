@@ -73,7 +73,8 @@
 //!     the wider: the trip measures that channel alone) before the flute reaches its break
 //!     angle again. Armed after a record
 //!     out of a steady cut (not transient, nor two of the last `N`; the noise figure
-//!     settled, no alarm latched),
+//!     settled, no alarm latched; the newest revolution as long as the one before, whose
+//!     bins the period's are judged against at the same samples),
 //!     with no run of the newest `j <= N` teeth that lost more than `3 sqrt(j)
 //!     sigma_R` together (the teeth armed with their own a revolution earlier: after the
 //!     history was forgotten, from the `N + 1`-th record on; an exit's teeth all lose, the
@@ -1626,6 +1627,14 @@ impl Alarms {
                         // the tail swinging by 2-5 sigma_R a revolution, 2 of the last 6
                         // flagged. The evidence's arming above is not affected.)
                         && st.flagged(0, 2 * n) < 2
+                        // (Nor in a speed ramp, the newest revolution not as long as the
+                        // one before: the period's bins are judged against that one's at
+                        // the same samples, and a light cut's short arc moves across them.
+                        // Seed 5318 normal 35: 2 flutes, 54 N, 6 % slower over two
+                        // revolutions; a period whose whole loss was 4.5 N tripped. Where a
+                        // tooth of the two is not armed, a lost pulse's or a moved window's
+                        // odd period, its length says nothing of the speed.)
+                        && (!st.all_armed(self.armed_two_revs) || self.same_speed(st, n, 1))
                 {
                     // (After a move the hand-over stage walks the periods since; and no
                     // credit: two revolutions are not armed.)
@@ -3092,6 +3101,24 @@ mod tests {
             floor.is_infinite() || share >= TRIP_SHARE,
             "{floor} {share}"
         );
+    }
+
+    /// The plain trip is not armed in a speed ramp either (seed 5318 normal 35: a 2-flute
+    /// tool at 54 N, 6 % slower over two revolutions; the period's bins judged against the
+    /// revolution before's at the same samples, the light cut's short arc later in them,
+    /// tripped on a whole loss of 4.5 N). A steady cut, the spindle faster by `shorter`
+    /// samples a tooth over the last revolution: by 2 (the newest revolution 0.8 % shorter,
+    /// within 1 % and two samples) armed at the plain share; by 4 (1.6 %) not armed.
+    #[test]
+    fn the_plain_trip_is_not_armed_in_a_speed_ramp() {
+        let arming = |shorter: u32| {
+            let (st, events) = armed_after_faster(&[0.0; 5], None, shorter);
+            assert_eq!(events, 0, "{shorter}");
+            (st.trip_floor_n(), st.trip_share())
+        };
+        let (floor, share) = arming(2);
+        assert!(floor.is_finite() && share >= TRIP_SHARE, "{floor} {share}");
+        assert!(arming(4).0.is_infinite());
     }
 
     /// ... nor just after a speed change, while the tracked boundary still lags: the speed
