@@ -3854,6 +3854,23 @@ mod tests {
         assert!(moved[at + 5].0.is_finite() && moved[at + 5].1.is_infinite());
     }
 
+    /// Processes record `i` carrying its change from its re-cut profile `recut` [N] (NaN:
+    /// none), keeping the first event's index and cause in `raised`.
+    fn process_recut(
+        a: &Alarms,
+        st: &mut AlarmState,
+        (i, rec): (usize, &ToothRecord),
+        recut: f32,
+        raised: &mut Option<(usize, Cause)>,
+    ) {
+        let ev = a
+            .process_with(st, rec, None, (recut, 0.0), &mut NoProbe)
+            .event;
+        if let (None, Some(e)) = (*raised, ev) {
+            *raised = Some((i, e.cause));
+        }
+    }
+
     /// A flute broken in a moved window's odd period: the alarm's history crosses the move,
     /// but the hand-over stage's re-cut profiles show the next flute's gain in the first
     /// period after it. The odd tooth's next period (and, 4 flutes, the one before it) is
@@ -3894,12 +3911,7 @@ mod tests {
                     2..=4 => 0.0,
                     _ => f32::NAN,
                 };
-                let ev = a
-                    .process_with(&mut st, &rec, None, (recut, 0.0), &mut NoProbe)
-                    .event;
-                if let (None, Some(e)) = (raised, ev) {
-                    raised = Some((i, e.cause));
-                }
+                process_recut(&a, &mut st, (i, &rec), recut, &mut raised);
                 out.push((st.trip_floor_n(), st.trip_share()));
             }
             (out, raised)
@@ -3991,12 +4003,7 @@ mod tests {
                     4 => -loss,
                     _ => f32::NAN,
                 };
-                let ev = a
-                    .process_with(&mut st, &rec, None, (recut, 0.0), &mut NoProbe)
-                    .event;
-                if let (None, Some(e)) = (raised, ev) {
-                    raised = Some((i, e.cause));
-                }
+                process_recut(&a, &mut st, (i, &rec), recut, &mut raised);
             }
             (raised, limit)
         };
