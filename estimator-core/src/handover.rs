@@ -54,7 +54,9 @@
 //! the bins by [`JITTER_SAMPLES`] against that period would lose, and by how far the two
 //! periods' boundaries lay apart against the pulses' tracked times where the boundary is
 //! the pulse itself, [`Handover::period_start`]: the encoder's jitter moves a steep chip
-//! edge inside the period across the bins, and back by its end); at the period's
+//! edge inside the period across the bins, and back by its end; and by as much as the
+//! closed period grew on the one before, less a sample, [`Handover::period_len`]: in a
+//! speed change the chips come at the same angles but other samples); at the period's
 //! close, with the window's boundary placed, the whole period with its last bin (left out
 //! inside the period, where it takes a longer period's excess) is judged against the same
 //! limit: a loss the tooth average alone shows as a drop, which the rules on the records
@@ -210,6 +212,12 @@ pub struct HandoverState {
     /// tracked times (`Handover::period_start`). (Last: ahead of the fields the per-sample
     /// path reads they cost its fastest sample 6 instructions, measured under QEMU.)
     shift: f32,
+    /// The last closed period's length on the pulses' tracked times (its growth on the one
+    /// before is the speed's change, `Handover::period_len`); the open period's boundary
+    /// off them, and how much further the closed one's end lay off them than its start.
+    len_before: f32,
+    last_off: f32,
+    closed_off: f32,
     start_off: [f32; MAX_TEETH],
     /// The closed period's change from its tooth's re-cut profile (its first period after
     /// a move), in the spindle channel's units of a tooth average; NaN where it was not
@@ -261,6 +269,9 @@ impl Default for HandoverState {
             lost: 0.0,
             bin_len: 1.0,
             shift: 0.0,
+            len_before: 0.0,
+            last_off: 0.0,
+            closed_off: 0.0,
             jitter_bins: 0.0,
             start_off: [0.0; MAX_TEETH],
             start_l: 0.0,
@@ -375,6 +386,8 @@ impl Handover {
     /// drop trip allows for it.
     #[inline(always)]
     pub fn period_start(&self, st: &mut HandoverState, off_samples: f32) {
+        st.closed_off = off_samples - st.last_off;
+        st.last_off = off_samples;
         if let Some(r) = st.start_off.get_mut(st.open as usize) {
             st.shift = libm::fabsf(off_samples - *r);
             *r = off_samples;
@@ -383,10 +396,25 @@ impl Handover {
 
     /// The closed period was `len` samples long: the open period's bins are that length's
     /// (after [`Handover::period_start`]).
+    ///
+    /// In a speed change the open period's chips come at the same angles but other samples:
+    /// binned by the closed period's length, they lie off their reference's bins (binned
+    /// the same way a revolution earlier) by the change of the periods' growth since, up to
+    /// the period's end (seed 5318 normal 35, a 2-flute tool at 54 N slowing by 6 % over two
+    /// revolutions: periods of 81, 81, 83 and 85 samples; in the last, a light cut's steep
+    /// chip entry lay 2 samples later in the bins than a revolution earlier, and the trip
+    /// fired on a period that lost 4.5 N in all). Inside the period the trip allows for a
+    /// shift by as much as the closed period grew on the one before it (on the pulses'
+    /// tracked times, less a sample: the boundaries' rounding), on top of the jitter's.
+    /// Only the growth seen so far: a ramp's first period has the jitter's allowance alone.
     #[inline(always)]
     pub fn period_len(&self, st: &mut HandoverState, len: u32) {
-        st.bin_len = len.max(1) as f32 * (1.0 / BINS as f32);
-        st.jitter_bins = (JITTER_SAMPLES + st.shift) / st.bin_len;
+        let l = len.max(1) as f32;
+        let tracked = l - st.closed_off;
+        let ramp = fmath::max(libm::fabsf(tracked - st.len_before) - 1.0, 0.0);
+        st.len_before = tracked;
+        st.bin_len = l * (1.0 / BINS as f32);
+        st.jitter_bins = (JITTER_SAMPLES + st.shift + ramp) / st.bin_len;
     }
 
     /// The bins before `bin` are complete: their change from the same tooth's one
@@ -1115,8 +1143,8 @@ mod tests {
     /// The trip passes at the sample where the period's loss passes its limit, not at the
     /// end of that sample's bin (up to a sixteenth of a period later). Noise-free, the
     /// flute's whole cut gone, at several shares: near the sample where the flute's signal
-    /// so far, summed here, passes that share of its whole and what a shift by
-    /// `JITTER_SAMPLES` would move that sum by (the signal there against the boundary's).
+    /// so far, summed here, passes that share of its whole and what the shift allowed for
+    /// would move that sum by (the signal there against the boundary's).
     #[test]
     fn the_trip_passes_inside_a_bin() {
         let total: f32 = (0..LEN).map(flute).sum();
@@ -1129,9 +1157,15 @@ mod tests {
             }
             let (period, pos, _) = feed(&p, &[], Some(share)).1.unwrap();
             assert_eq!(period, k);
+            // The shift allowed for: the jitter's, and the closed period's growth on the one
+            // before less a sample (`Handover::period_len`; `steady`'s periods of each tooth
+            // are as long every revolution, but one tooth's is 2 samples shorter than the
+            // one before's).
+            let growth = p[k - 1].len().abs_diff(p[k - 2].len()) as f32;
+            let allowed = JITTER_SAMPLES + (growth - 1.0).max(0.0);
             let want = (0..LEN)
                 .position(|i| {
-                    let shift = JITTER_SAMPLES * (flute(i) - flute(0)).abs();
+                    let shift = allowed * (flute(i) - flute(0)).abs();
                     (0..=i).map(flute).sum::<f32>() > share * total + shift
                 })
                 .unwrap();
@@ -1543,6 +1577,12 @@ mod tests {
         assert_eq!(period, k);
     }
 
+    /// For the trip's allowances inside the period: periods of 5-sample bins, a steep chip's
+    /// peak and the signal with nothing cut.
+    const LONG: usize = 5 * BINS;
+    const HIGH: f32 = 10.0;
+    const BASE: f32 = 0.2;
+
     /// The window at the pulse, a down-milling chip (thickest at its steep entry)
     /// mid-period: each pulse lies up to two samples off the pulses' tracked times (the
     /// encoder's jitter) and the chip with it, so that the sum over a period's first bins
@@ -1553,12 +1593,8 @@ mod tests {
     /// it does. A flute broken there still trips when it comes round.
     #[test]
     fn a_known_shift_of_the_pulse_is_allowed_for_inside_the_period() {
-        // Bins of 5 samples.
-        const LONG: usize = 5 * BINS;
         const AT: usize = 30;
         const SHORT: usize = 24;
-        const HIGH: f32 = 10.0;
-        const BASE: f32 = 0.2;
         // The chip at `x` samples from its entry: up in a sample, thinning out.
         let chip = |x: f32| {
             if (0.0..SHORT as f32).contains(&x) {
@@ -1609,6 +1645,118 @@ mod tests {
         }
         let (period, _, _) = feed_off(h, &p, &offs, &[], Some(share), from).1.unwrap();
         assert_eq!(period, k);
+    }
+
+    /// The spindle slowing ever faster (seed 5318 normal 35: a 2-flute tool, periods of
+    /// 81, 81, 83, 85 and 87 samples), a down-milling chip (thickest at its steep entry)
+    /// mid-period at the placed boundary. Each period's bins are sized by the period before;
+    /// the chip, at the same angle, comes later in them than a revolution earlier by its
+    /// angle's share (a half) of the change of the periods' growth since, and the sum over the first bins swings
+    /// by more than a low share of the tooth's force and what a shift by `JITTER_SAMPLES`
+    /// moves it by (computed here from the bin means as the stage bins them), while the
+    /// whole period keeps its force. Allowing for as much again as the closed period grew
+    /// on the one before it, the trip does not fire; a flute broken in the ramp still trips
+    /// when it comes round.
+    #[test]
+    fn a_speed_ramp_is_allowed_for_inside_the_period() {
+        // The chip's entry and length as shares of the period.
+        const AT: f32 = 0.5;
+        const SHORT: f32 = 0.3;
+        let n = N as usize;
+        let from = 2 * WARM_TEETH as usize;
+        // Steady to `ramp`, then each period longer than the one before by two samples more.
+        let ramp = from + 2 * n;
+        let lens: Vec<usize> = (0..ramp + 4 * n)
+            .map(|k| {
+                let j = k.saturating_sub(ramp);
+                LONG + j * (j + 1)
+            })
+            .collect();
+        let mut noise = Noise(0x7531_8642, 0.05);
+        let mut p: Vec<Vec<f32>> = lens
+            .iter()
+            .map(|&len| {
+                (0..len)
+                    .map(|i| {
+                        let x = (i as f32 / len as f32 - AT) / SHORT;
+                        let chip = if (0.0..1.0).contains(&x) {
+                            HIGH * (1.0 - x)
+                        } else {
+                            0.0
+                        };
+                        BASE + chip + noise.next()
+                    })
+                    .collect()
+            })
+            .collect();
+        // In sums of bin means, each period binned by the one before's length: the worst
+        // loss of a period's first bins against the same tooth's a revolution earlier, less
+        // the limit a trip at `share` of that tooth's force would have had without the ramp.
+        let bins = |k: usize| -> Vec<f32> {
+            let step = bin_step(lens[k - 1] as u32);
+            let mut sum = [0.0f32; BINS];
+            let mut cnt = [0.0f32; BINS];
+            for (i, &x) in p[k].iter().enumerate() {
+                let b = (((i as u64 * step as u64) >> 16) as usize).min(BINS - 1);
+                sum[b] += x;
+                cnt[b] += 1.0;
+            }
+            sum.iter().zip(&cnt).map(|(s, c)| s / c).collect()
+        };
+        let share = 0.1;
+        let over = (ramp..p.len())
+            .map(|k| {
+                let (now, then) = (bins(k), bins(k - n));
+                let content: f32 = then.iter().sum();
+                let bin = lens[k - 1] as f32 / BINS as f32;
+                let limit = share * content + JITTER_SAMPLES * HIGH / bin;
+                let mut lost = 0.0f32;
+                let mut worst = 0.0f32;
+                for b in 0..BINS - 1 {
+                    lost += then[b] - now[b];
+                    worst = worst.max(lost);
+                }
+                worst / limit
+            })
+            .fold(0.0f32, f32::max);
+        assert!(
+            over > 1.1,
+            "the swing, {over} of the limit, would not trip anyway"
+        );
+        let h = Handover::new(N, true, true, true);
+        assert_eq!(feed_armed_from(h, &p, &[], Some(share), from).1, None);
+        // Flute 1 breaks in the ramp: from period `k` on it cuts nothing; its next pass trips.
+        let k = ramp + n + 1;
+        for q in p.iter_mut().skip(k).step_by(n) {
+            q.iter_mut().for_each(|x| *x = BASE + noise.next());
+        }
+        let (period, _, _) = feed_armed_from(h, &p, &[], Some(share), from).1.unwrap();
+        assert_eq!(period, k);
+    }
+
+    /// The growth allowed for is measured on the pulses' tracked times: at the pulse, a
+    /// period's samples less how much further its end's boundary lay off them than its
+    /// start's. Tracked times 80 samples apart, the boundaries (the pulses) 0, 2, -1 and -1
+    /// samples off them: periods of 82, 77 and 80 samples, none of them a speed change;
+    /// then periods of 83, 84 and 81 samples on the tracked times.
+    #[test]
+    fn the_growth_is_measured_on_the_tracked_times() {
+        let h = Handover::new(N, true, false, true);
+        let mut st = HandoverState::default();
+        let mut allowed = |off: f32, len: u32| {
+            h.period_start(&mut st, off);
+            h.period_len(&mut st, len);
+            // (`period_start` alone, `open` never moving: the shift is off the last start.)
+            st.jitter_bins * st.bin_len - JITTER_SAMPLES - st.shift
+        };
+        allowed(0.0, 80);
+        assert_eq!(allowed(2.0, 82), 0.0);
+        assert_eq!(allowed(-1.0, 77), 0.0);
+        assert_eq!(allowed(-1.0, 80), 0.0);
+        assert!((allowed(-1.0, 83) - 2.0).abs() < 1e-4);
+        // 85 samples, the end's boundary a sample later: 84 on the tracked times.
+        assert_eq!(allowed(0.0, 85), 0.0);
+        assert!((allowed(0.0, 81) - 2.0).abs() < 1e-4);
     }
 
     #[test]
