@@ -3857,6 +3857,20 @@ mod tests {
         assert!(moved[at + 5].0.is_finite() && moved[at + 5].1.is_infinite());
     }
 
+    /// Record `i` of a cut whose window moved at record `at` (its odd period 375 samples,
+    /// 250 before, `len` after): its tangential force, the watched one, at `f2_n`.
+    fn record_across_move(i: usize, at: usize, f2_n: f32, len: u32) -> ToothRecord {
+        let moved = Status(Status::WINDOW_MOVED.0 | Status::PERIOD_INVALID.0);
+        let mut rec = record(i, 0.0, if i == at { moved } else { Status::AMBIGUOUS });
+        rec.f2_n = f2_n;
+        rec.samples = match i {
+            _ if i == at => 375,
+            _ if i > at => len,
+            _ => 250,
+        };
+        rec
+    }
+
     /// Processes record `i` carrying its change from its re-cut profile `recut` [N] (NaN:
     /// none), keeping the first event's index and cause in `raised`.
     fn process_recut(
@@ -3895,20 +3909,14 @@ mod tests {
             let mut out = Vec::new();
             let mut raised = None;
             for (i, &force) in f.iter().enumerate() {
-                let moved = Status(Status::WINDOW_MOVED.0 | Status::PERIOD_INVALID.0);
-                let mut rec = record(i, 0.0, if i == at { moved } else { Status::AMBIGUOUS });
                 // (The tangential channel alone: the watched force is it, and so is the
                 // re-cut change, which the record carries.)
-                rec.f2_n = if i == at + 1 && first.is_finite() {
+                let f2_n = if i == at + 1 && first.is_finite() {
                     force + first
                 } else {
                     force
                 };
-                rec.samples = match i {
-                    _ if i == at => 375,
-                    _ if i > at => len,
-                    _ => 250,
-                };
+                let rec = record_across_move(i, at, f2_n, len);
                 let recut = match i - at.min(i) {
                     1 => first,
                     2..=4 => 0.0,
@@ -3985,15 +3993,12 @@ mod tests {
             let mut st = AlarmState::default();
             let (mut raised, mut limit) = (None, f32::NAN);
             for (i, &force) in f.iter().enumerate() {
-                let moved = Status(Status::WINDOW_MOVED.0 | Status::PERIOD_INVALID.0);
-                let mut rec = record(i, 0.0, if i == at { moved } else { Status::AMBIGUOUS });
-                rec.samples = if i == at { 375 } else { 250 };
-                rec.f2_n = force
-                    + match i {
-                        _ if i == before => -loss,
-                        _ if i == bridge => gain,
-                        _ => 0.0,
-                    };
+                let change = match i {
+                    _ if i == before => -loss,
+                    _ if i == bridge => gain,
+                    _ => 0.0,
+                };
+                let rec = record_across_move(i, at, force + change, 250);
                 if i == bridge {
                     let mean = (1..4).map(|k| st.force(k - 1)).sum::<f32>() + rec.f2_n;
                     let var_r = 0.5 * a.decision_var(&st, mean / 4.0).unwrap();
