@@ -56,7 +56,9 @@
 //! the pulse itself, [`Handover::period_start`]: the encoder's jitter moves a steep chip
 //! edge inside the period across the bins, and back by its end; and by as much as the
 //! closed period grew on the one before, less a sample, [`Handover::period_len`]: in a
-//! speed change the chips come at the same angles but other samples); at the period's
+//! speed change the chips come at the same angles but other samples; and by how far the
+//! tracked times' lag behind the pulses changed, where a placed boundary follows them,
+//! less the jitter's part: after a ramp they catch up over pulses); at the period's
 //! close, with the window's boundary placed, the whole period with its last bin (left out
 //! inside the period, where it takes a longer period's excess) is judged against the same
 //! limit: a loss the tooth average alone shows as a drop, which the rules on the records
@@ -102,6 +104,10 @@ pub const MAX_Z: f32 = 1.0e6;
 /// boundary, rounded to samples; [`Handover::period_start`]): inside the period the drop
 /// trip allows for the loss that so small a shift makes (the module's "Drop trip").
 pub const JITTER_SAMPLES: f32 = 1.0;
+/// How far the tracked times' lag behind the pulses may differ between two pulses by the
+/// encoder's jitter alone, where the lag is measured on the pulses: each lies up to
+/// [`JITTER_SAMPLES`] and its rounding off its angle's time ([`Handover::period_start`]).
+const LAG_JITTER_SAMPLES: f32 = 2.0 * (JITTER_SAMPLES + 0.5);
 /// Weight of a tooth's newest period in its reference (see the module's "Reference").
 const BLEND: f32 = 0.5;
 /// A period whose change from its reference passes this many variances of that change (2
@@ -209,7 +215,7 @@ pub struct HandoverState {
     moved: [f32; MAX_TEETH],
     moved_n: u8,
     /// See `jitter_bins`; and per tooth, where its last period's boundary lay against the
-    /// tracked times (`Handover::period_start`). (Last: ahead of the fields the per-sample
+    /// tracked times and how far those lagged the pulses (`Handover::period_start`). (Last: ahead of the fields the per-sample
     /// path reads they cost its fastest sample 6 instructions, measured under QEMU.)
     shift: f32,
     /// The last closed period's length on the pulses' tracked times (its growth on the one
@@ -219,6 +225,7 @@ pub struct HandoverState {
     last_off: f32,
     closed_off: f32,
     start_off: [f32; MAX_TEETH],
+    start_lag: [f32; MAX_TEETH],
     /// The closed period's change from its tooth's re-cut profile (its first period after
     /// a move), in the spindle channel's units of a tooth average; NaN where it was not
     /// compared with one.
@@ -274,6 +281,7 @@ impl Default for HandoverState {
             closed_off: 0.0,
             jitter_bins: 0.0,
             start_off: [0.0; MAX_TEETH],
+            start_lag: [0.0; MAX_TEETH],
             start_l: 0.0,
             edge: 0.0,
             run: 0.0,
@@ -378,19 +386,32 @@ impl Handover {
     }
 
     /// The open period's boundary lies `off_samples` from the pulses' tracked times
-    /// ([`crate::window::Window::boundary_off`]; after [`Handover::sample`] closed the
+    /// ([`crate::window::Window::boundary_off`]), and those lag the pulses by `lag_samples`
+    /// ([`crate::window::Window::boundary_lag`]; after [`Handover::sample`] closed the
     /// period before, once a period, before [`Handover::period_len`]). Where the boundary is
     /// the pulse itself, the encoder's jitter moves it against its reference a revolution
     /// earlier by twice its spread (seed 1301 normal 41: 2.6 samples at a 2-flute tool's
     /// chip edge, a loss of 30 % of the tooth inside the period, none over it); known, the
     /// drop trip allows for it.
+    ///
+    /// A placed boundary follows the tracked times, which after a speed ramp lag the
+    /// pulses, and the chips with them, by up to a sixth of a period, and catch up over
+    /// about 16 pulses (seed 5591 gone 5: a 2-flute tool 14 % faster over 12 teeth, a lag
+    /// of 33 samples of 186; 20 and then 10 samples at the starts of a tooth's two periods
+    /// after the ramp, and the light tooth's chip 10 samples later in the bins than a
+    /// revolution earlier tripped the plain trip inside the period). The trip allows for
+    /// the lag's change since the tooth's last period too, less what the jitter alone
+    /// moves the lag measured on the pulses by ([`LAG_JITTER_SAMPLES`]).
     #[inline(always)]
-    pub fn period_start(&self, st: &mut HandoverState, off_samples: f32) {
+    pub fn period_start(&self, st: &mut HandoverState, off_samples: f32, lag_samples: f32) {
         st.closed_off = off_samples - st.last_off;
         st.last_off = off_samples;
-        if let Some(r) = st.start_off.get_mut(st.open as usize) {
-            st.shift = libm::fabsf(off_samples - *r);
+        let open = st.open as usize;
+        if let (Some(r), Some(l)) = (st.start_off.get_mut(open), st.start_lag.get_mut(open)) {
+            let lagged = libm::fabsf(lag_samples - *l) - LAG_JITTER_SAMPLES;
+            st.shift = libm::fabsf(off_samples - *r) + fmath::max(lagged, 0.0);
             *r = off_samples;
+            *l = lag_samples;
         }
     }
 
@@ -935,16 +956,17 @@ mod tests {
         trip: Option<f32>,
         from: usize,
     ) -> (Vec<(f32, f32)>, Option<(usize, usize, f32)>) {
-        feed_off(h, periods, &[], unusable, trip, from)
+        feed_off(h, periods, &[], &[], unusable, trip, from)
     }
 
     /// [`feed_armed_from`], period `k`'s boundary `offs[k]` samples off the pulses'
-    /// tracked times (none listed: 0).
-    #[allow(clippy::type_complexity)]
+    /// tracked times, and those `lags[k]` samples after its pulse (none listed: 0).
+    #[allow(clippy::type_complexity, clippy::too_many_arguments)]
     fn feed_off(
         h: Handover,
         periods: &[Vec<f32>],
         offs: &[f32],
+        lags: &[f32],
         unusable: &[usize],
         trip: Option<f32>,
         from: usize,
@@ -961,7 +983,8 @@ mod tests {
                 let bin = (((pos as u64 * step as u64) >> 16) as usize).min(BINS - 1);
                 h.sample(&mut st, closed, bin, x);
                 if let Some(t) = closed {
-                    h.period_start(&mut st, offs.get(k).copied().unwrap_or(0.0));
+                    let at = |v: &[f32]| v.get(k).copied().unwrap_or(0.0);
+                    h.period_start(&mut st, at(offs), at(lags));
                     h.period_len(&mut st, periods[k - 1].len() as u32);
                     let period = if unusable.contains(&(k - 1)) {
                         Period::Unusable
@@ -1058,7 +1081,7 @@ mod tests {
                 let bin = (((pos as u64 * step_len as u64) >> 16) as usize).min(BINS - 1);
                 h.sample(&mut st, closed, bin, level + noise.next());
                 if let Some(t) = closed {
-                    h.period_start(&mut st, 0.0);
+                    h.period_start(&mut st, 0.0, 0.0);
                     h.period_len(&mut st, LEN as u32);
                     h.measure(&mut st, t, Period::Cut { steady: true }, 1.0);
                     out.push(st.prev[0]);
@@ -1325,7 +1348,7 @@ mod tests {
                             h.realign(&mut st, t as u8, advance, len as u32, ref_len as f32);
                         }
                         let told_off = if told && p <= moved { off(p) } else { 0 };
-                        h.period_start(&mut st, told_off as f32);
+                        h.period_start(&mut st, told_off as f32, 0.0);
                         let period = if odd {
                             h.period_len(&mut st, ref_len as u32);
                             Period::Moved
@@ -1636,14 +1659,106 @@ mod tests {
             "the swing {swing} would not trip a limit of {share} anyway"
         );
         let h = Handover::new(N, true, true, true);
-        assert!(feed_off(h, &p, &[], &[], Some(share), from).1.is_some());
-        assert_eq!(feed_off(h, &p, &offs, &[], Some(share), from).1, None);
+        assert!(feed_off(h, &p, &[], &[], &[], Some(share), from)
+            .1
+            .is_some());
+        assert_eq!(feed_off(h, &p, &offs, &[], &[], Some(share), from).1, None);
         // Flute 1 breaks: from period `k` on it cuts nothing; its next pass trips.
         let k = (from / n + 3) * n + 1;
         for q in p.iter_mut().skip(k).step_by(n) {
             q.iter_mut().for_each(|x| *x = BASE + noise.next());
         }
-        let (period, _, _) = feed_off(h, &p, &offs, &[], Some(share), from).1.unwrap();
+        let (period, _, _) = feed_off(h, &p, &offs, &[], &[], Some(share), from)
+            .1
+            .unwrap();
+        assert_eq!(period, k);
+    }
+
+    /// After a speed ramp the spindle holds its speed and the pulses' tracked times, which
+    /// the placed boundary follows, catch up with them (seed 5591 gone 5: a lag of 33
+    /// samples of 186 at the ramp's end; 20, then 10 at the starts of a tooth's two
+    /// periods after it). Here the lag holds at 14 samples, then catches up to 2 at once,
+    /// so that each tooth's first period after it is compared with a reference of the
+    /// other lag alone. A down-milling chip (thickest at its steep entry) at a fixed angle
+    /// comes 12 samples later in the bins than a revolution earlier, and the sum over the
+    /// period's first bins swings by more than a low share of the tooth's force and what a
+    /// shift by `JITTER_SAMPLES` moves it by (computed here from the bin means), while the
+    /// whole period keeps its force. The lag is told as the window stage measures it, on
+    /// the pulses, with the encoder's jitter of up to a sample in it. Told, the trip allows
+    /// for the lag's change and does not fire; not told, it does. A flute broken after the
+    /// catch-up still trips when it comes round.
+    #[test]
+    fn the_tracked_times_catching_up_are_allowed_for_inside_the_period() {
+        const AT: f32 = 30.0;
+        const SHORT: f32 = 24.0;
+        let chip = |x: f32| {
+            if (0.0..SHORT).contains(&x) {
+                HIGH * (1.0 - x / SHORT)
+            } else {
+                0.0
+            }
+        };
+        let n = N as usize;
+        let from = 2 * WARM_TEETH as usize;
+        // The tracked times' lag: 14 samples to `held`, then 2; measured on pulses up to a
+        // sample off their angles' times.
+        let held = from + 2 * n;
+        let lag: Vec<f32> = (0..held + 6 * n)
+            .map(|k| if k < held { 14.0 } else { 2.0 })
+            .collect();
+        let mut jitter = Noise(0x5591_0005, 1.0);
+        let told: Vec<f32> = lag
+            .iter()
+            .map(|l| l - jitter.next().round().clamp(-1.0, 1.0))
+            .collect();
+        // A boundary `l` samples after the chip's angle's time sees the chip `l` early.
+        let mut noise = Noise(0x00dd_ba11, 0.05);
+        let mut p: Vec<Vec<f32>> = lag
+            .iter()
+            .map(|&l| {
+                (0..LONG)
+                    .map(|i| BASE + chip(i as f32 + l - AT) + noise.next())
+                    .collect()
+            })
+            .collect();
+        // In sums of bin means: the worst loss of a period's first bins against the same
+        // tooth's a revolution earlier, over the limit at `share` without the lag.
+        let bin = (LONG / BINS) as f32;
+        let bins = |q: &[f32]| -> Vec<f32> {
+            q.chunks(LONG / BINS)
+                .map(|c| c.iter().sum::<f32>() / bin)
+                .collect()
+        };
+        let share = 0.4;
+        let over = (held..held + n)
+            .map(|k| {
+                let (now, then) = (bins(&p[k]), bins(&p[k - n]));
+                let limit = share * then.iter().sum::<f32>() + JITTER_SAMPLES * HIGH / bin;
+                let mut lost = 0.0f32;
+                let mut worst = 0.0f32;
+                for b in 0..BINS - 1 {
+                    lost += then[b] - now[b];
+                    worst = worst.max(lost);
+                }
+                worst / limit
+            })
+            .fold(0.0f32, f32::max);
+        assert!(
+            over > 1.1,
+            "the swing, {over} of the limit, would not trip anyway"
+        );
+        let h = Handover::new(N, true, true, true);
+        let untold = feed_off(h, &p, &[], &[], &[], Some(share), from);
+        assert!(untold.1.is_some());
+        assert_eq!(feed_off(h, &p, &[], &told, &[], Some(share), from).1, None);
+        // Flute 1 breaks: from period `k` on it cuts nothing; its next pass trips.
+        let k = held + n + 1;
+        for q in p.iter_mut().skip(k).step_by(n) {
+            q.iter_mut().for_each(|x| *x = BASE + noise.next());
+        }
+        let (period, _, _) = feed_off(h, &p, &[], &told, &[], Some(share), from)
+            .1
+            .unwrap();
         assert_eq!(period, k);
     }
 
@@ -1744,7 +1859,7 @@ mod tests {
         let h = Handover::new(N, true, false, true);
         let mut st = HandoverState::default();
         let mut allowed = |off: f32, len: u32| {
-            h.period_start(&mut st, off);
+            h.period_start(&mut st, off, 0.0);
             h.period_len(&mut st, len);
             // (`period_start` alone, `open` never moving: the shift is off the last start.)
             st.jitter_bins * st.bin_len - JITTER_SAMPLES - st.shift

@@ -580,7 +580,8 @@ impl Monitor {
                 p.samples
             };
             let off = self.boundary.boundary_off(&st.win);
-            self.handover.period_start(&mut st.hand, off);
+            let lag = self.boundary.boundary_lag(&st.win);
+            self.handover.period_start(&mut st.hand, off, lag);
             self.handover.period_len(&mut st.hand, len);
         }
         p

@@ -264,6 +264,19 @@ impl Window {
         }
     }
 
+    /// How far the pulses' tracked times, which an aligned boundary follows, lag the last
+    /// pulse [samples]: the encoder's jitter, and after a speed ramp the tracker's lag
+    /// (the drop trip allows for its change, [`crate::handover::Handover::period_start`]).
+    /// At the pulse, 0: the boundary is the pulse.
+    #[inline(always)]
+    pub fn boundary_lag(&self, st: &WindowState) -> f32 {
+        if self.align {
+            st.offset
+        } else {
+            0.0
+        }
+    }
+
     /// The tooth period the pulses' tracked interval gives [samples] (0 before a pulse).
     #[inline(always)]
     pub fn tracked_len(&self, st: &WindowState) -> f32 {
