@@ -592,6 +592,8 @@ pub struct AlarmState {
     /// that the hand-over stage allows before it arms the trip [N] (`INFINITY`: none to
     /// check).
     trip_quiet_n: f32,
+    /// ... and judged on the whole period at its close too (`Alarms::process_with`).
+    trip_whole: bool,
     /// The exit's loss share behind it, and the feed per tooth [mm] and `R_r` it is for
     /// (`R_r` -1: none valid).
     exit_share: f32,
@@ -664,6 +666,7 @@ impl Default for AlarmState {
             trip_floor_n: f32::INFINITY,
             trip_quiet_n: f32::INFINITY,
             trip_share: TRIP_SHARE,
+            trip_whole: true,
             exit_share: 1.0,
             exit_key: (f32::NAN, f32::NAN),
             exit_wide: 0.0,
@@ -902,6 +905,12 @@ impl AlarmState {
     /// The drop trip's share (see [`TRIP_SHARE`]).
     pub fn trip_share(&self) -> f32 {
         self.trip_share
+    }
+
+    /// Whether the armed drop trip judges the whole period at its close too (see
+    /// [`crate::handover::Handover::arm_trip`]).
+    pub fn trip_whole(&self) -> bool {
+        self.trip_whole
     }
 
     /// Where the drop trip is armed in the first revolution after a moved window: the
@@ -1613,8 +1622,17 @@ impl Alarms {
                         lost += 1;
                     }
                     let lost_since = lost.saturating_sub(1);
+                    // Judged inside the period alone where the cut's span is within a
+                    // pitch: the window holds the whole cut, and a broken flute's next
+                    // pass loses from its first angles, past the share well before the
+                    // period ends; a loss that passes it only whole, at the close, lies
+                    // at the cut's far end, an up-milling exit's first period (seed 5435
+                    // normal 51: 2 flutes, a noise pair, then the exit's first period
+                    // lost 29 % against 0.32). Wider, the next flute's cut reaches into
+                    // the window, and the close catches breaks (seeds 14 break 61 and 85
+                    // break 108, 4 flutes at `R_r` 1.58).
                     self.trip_share(st, rec.tc_mm, sigma_r, Some(lost_since))
-                        .map(|share| (share, floor))
+                        .map(|share| (share, floor, st.exit_wide > 0.0))
                 } else if fresh
                     || self.no_recent_loss(st, TRIP_QUIET_SIGMAS * TRIP_QUIET_SIGMAS * var_r)
                         && !(st.all_armed(self.armed_fade)
@@ -1662,12 +1680,13 @@ impl Alarms {
                         (
                             share,
                             crate::fmath::max(floor, EVIDENCE_MIN_SIGMAS * sigma_r),
+                            true,
                         )
                     })
                 } else {
                     None
                 };
-                if let Some((share, floor)) = armed {
+                if let Some((share, floor, whole)) = armed {
                     // The floors are in the resultant's noise; the trip measures the
                     // tangential channel, whose own noise can be wider (seed 3723 normal
                     // 34: an exit's tail, the resultant's sigma_R 15.8 N against that
@@ -1680,6 +1699,7 @@ impl Alarms {
                         floor
                     };
                     st.trip_share = share;
+                    st.trip_whole = whole;
                 }
             }
         }
@@ -2968,6 +2988,38 @@ mod tests {
         let (plain, up) = (floor(1.0), floor(2.0));
         assert!(plain.is_finite());
         assert!(up > 1.8 * plain && up < 2.2 * plain, "{up} vs {plain}");
+    }
+
+    /// After a hand-over's evidence the trip is judged inside the period alone where the
+    /// cut's span (its arc and the helix's lag) is within a pitch: the placed window then
+    /// holds the whole cut, and a flute that broke in it loses its next pass from its
+    /// first angles, past the evidence's share well before the period ends. A loss that
+    /// passes it only with the whole period at the close lies at the cut's far end, an
+    /// up-milling exit's first period (seed 5435 normal 51: 2 flutes, `R_r` 1.09, a noise
+    /// pair, then the exit's first period lost 29 % against 0.32, judged whole at its
+    /// close). Where the span is wider than a pitch the next flute's cut reaches into the
+    /// window, and the close judges it too (seeds 14 break 61 and 85 break 108: 4 flutes at
+    /// `R_r` 1.58, caught at the close); the plain arming is judged whole too.
+    #[test]
+    fn the_evidence_trip_is_judged_whole_only_on_a_cut_wider_than_a_pitch() {
+        let pair = [0.0, -24.0, 24.0, 0.0, 0.0];
+        let tool = EstimatorConfig::default().tool;
+        let span = |rr: f32, st: &AlarmState| {
+            let ra = st.held.map_or(0.0, |(_, ra)| ra);
+            crate::geometry::engaged_arc_rad(rr) + ra * libm::tanf(tool.helix_deg.to_radians())
+        };
+        for (rr, wide) in [(0.3, false), (1.9, true)] {
+            let (st, events) = armed_on_arc(rr, RUNOUT_30, &pair, &[], 0);
+            let (plain, _) = armed_on_arc(rr, RUNOUT_30, &[0.0; 5], &[], 0);
+            assert_eq!(events, 0);
+            // By the evidence: its floor under the plain arming's 6 sigma.
+            assert!(st.trip_floor_n() < plain.trip_floor_n(), "R_r {rr}");
+            assert!(st.trip_share() >= EVIDENCE_SHARE, "R_r {rr}");
+            assert_eq!(span(rr, &st) > tool.tooth_pitch_rad(), wide, "R_r {rr}");
+            assert_eq!(st.trip_whole(), wide, "R_r {rr}");
+            assert!(plain.trip_floor_n().is_finite(), "R_r {rr}: armed plain");
+            assert!(plain.trip_whole(), "R_r {rr}: plain");
+        }
     }
 
     /// A flute broken inside its period a revolution ago: tooth 1 lost 24 N and tooth 2

@@ -59,7 +59,8 @@
 //! speed change the chips come at the same angles but other samples; and by how far the
 //! tracked times' lag behind the pulses changed, where a placed boundary follows them,
 //! less the jitter's part: after a ramp they catch up over pulses); at the period's
-//! close, with the window's boundary placed, the whole period with its last bin (left out
+//! close, with the window's boundary placed (and where the alarm stage asks it), the whole
+//! period with its last bin (left out
 //! inside the period, where it takes a longer period's excess) is judged against the same
 //! limit: a loss the tooth average alone shows as a drop, which the rules on the records
 //! leave undecided until the next flute's gain. The alarm stage
@@ -174,6 +175,8 @@ pub struct HandoverState {
     deficit: f32,
     trip: f32,
     tripped: bool,
+    /// The armed trip judges the whole period at its close too (`Handover::arm_trip`).
+    whole: bool,
     /// The loss when it tripped and the limit it passed (the period's close may have
     /// disarmed it since); a bin's samples (the open period's bins are the closed
     /// period's length over `BINS`); the open bin's change so far (its samples less the
@@ -272,6 +275,7 @@ impl Default for HandoverState {
             deficit: 0.0,
             trip: f32::INFINITY,
             tripped: false,
+            whole: false,
             hit: f32::INFINITY,
             lost: 0.0,
             bin_len: 1.0,
@@ -495,7 +499,12 @@ impl Handover {
     /// the newest periods since (at least one) lost from them: every sum of the newest `j`
     /// changes above `-sqrt(j) quiet_n` (the alarm stage's test on its records, which
     /// compare nothing across the move: an exit's teeth all lose, the newest most).
+    ///
+    /// `whole`: the whole period is judged at its close too (with the window's boundary
+    /// placed, [`Handover::whole_at_close`]); the alarm stage leaves it out after a
+    /// hand-over's evidence on a cut within a pitch.
     #[inline(never)]
+    #[allow(clippy::too_many_arguments)]
     pub fn arm_trip(
         &self,
         st: &mut HandoverState,
@@ -504,7 +513,9 @@ impl Handover {
         share: f32,
         floor_n: f32,
         quiet_n: f32,
+        whole: bool,
     ) {
+        st.whole = whole;
         st.trip = f32::INFINITY;
         st.run_limit = f32::NEG_INFINITY;
         if !self.on || st.per_unit_n <= 0.0 || st.filled & (1u8.wrapping_shl(st.open as u32)) == 0 {
@@ -624,7 +635,11 @@ impl Handover {
                 st.recut_rows &= !(1 << slot);
                 // (Only a period that reached its last bin: one cut short by a glitch
                 // holds its last complete bin's mean in the bins it never reached.)
-                if self.whole_at_close && st.open == tooth && st.fold as usize == BINS - 1 {
+                if self.whole_at_close
+                    && st.whole
+                    && st.open == tooth
+                    && st.fold as usize == BINS - 1
+                {
                     whole_lost = before - period;
                 }
             }
@@ -956,11 +971,12 @@ mod tests {
         trip: Option<f32>,
         from: usize,
     ) -> (Vec<(f32, f32)>, Option<(usize, usize, f32)>) {
-        feed_off(h, periods, &[], &[], unusable, trip, from)
+        feed_off(h, periods, &[], &[], unusable, trip, from, true)
     }
 
     /// [`feed_armed_from`], period `k`'s boundary `offs[k]` samples off the pulses'
-    /// tracked times, and those `lags[k]` samples after its pulse (none listed: 0).
+    /// tracked times, and those `lags[k]` samples after its pulse (none listed: 0); the trip
+    /// armed to judge the whole period at its close too where `whole`.
     #[allow(clippy::type_complexity, clippy::too_many_arguments)]
     fn feed_off(
         h: Handover,
@@ -970,6 +986,7 @@ mod tests {
         unusable: &[usize],
         trip: Option<f32>,
         from: usize,
+        whole: bool,
     ) -> (Vec<(f32, f32)>, Option<(usize, usize, f32)>) {
         let mut st = HandoverState::default();
         let mut out = Vec::new();
@@ -995,7 +1012,7 @@ mod tests {
                     if let (Some(share), true) = (trip, k > from) {
                         let prev = &periods[k - 1];
                         let ft = prev.iter().sum::<f32>() / prev.len() as f32;
-                        h.arm_trip(&mut st, t, ft, share, 0.0, f32::INFINITY);
+                        h.arm_trip(&mut st, t, ft, share, 0.0, f32::INFINITY, whole);
                     }
                 }
                 if let Some((lost, _)) = h.take_trip(&mut st) {
@@ -1205,7 +1222,8 @@ mod tests {
     /// last bin holds the start of the next flute's cut (arcs wider than a pitch): a
     /// period that loses that bin alone (10 units, a tenth of the tooth) trips at its
     /// close where the limit is under it, not where it is over it, nor with the window at
-    /// the pulse; a period cut short before its last bin is not judged.
+    /// the pulse or the trip armed without the whole period; a period cut short before its
+    /// last bin is not judged.
     #[test]
     fn the_whole_period_is_judged_at_its_close() {
         let tail = |i: usize| if i >= LEN - LEN / BINS { 10.0 } else { 0.0 };
@@ -1227,9 +1245,15 @@ mod tests {
             Some((k + 1, 0))
         );
         assert_eq!(feed(&p, &[], Some(over)).1, None);
-        // With the window at the pulse, only inside the period.
+        // With the window at the pulse, only inside the period; nor armed without the
+        // whole period (after a hand-over's evidence, a cut within a pitch).
         let at_pulse = Handover::new(N, true, false, true);
         assert_eq!(feed_with(at_pulse, &p, &[], Some(under)).1, None);
+        let h = Handover::new(N, true, true, true);
+        assert_eq!(
+            feed_off(h, &p, &[], &[], &[], Some(under), 0, false).1,
+            None
+        );
         // A period cut short by a glitch in the gap, before its last two bins (the monitor
         // flags it and the one after, binned by its length, unusable): the bins it never
         // reached hold its last bin's mean, 10 less than the tail there a revolution
@@ -1361,7 +1385,7 @@ mod tests {
                         h.measure(&mut st, t as u8, period, 1.0);
                         let ft = x[w[0] - len..w[0]].iter().sum::<f32>() / len as f32;
                         let q = if p > moved { quiet } else { f32::INFINITY };
-                        h.arm_trip(&mut st, t as u8, ft, share, 0.0, q);
+                        h.arm_trip(&mut st, t as u8, ft, share, 0.0, q, true);
                     }
                     None => {
                         let bin = (((pos as u64 * step as u64) >> 16) as usize).min(BINS - 1);
@@ -1659,16 +1683,19 @@ mod tests {
             "the swing {swing} would not trip a limit of {share} anyway"
         );
         let h = Handover::new(N, true, true, true);
-        assert!(feed_off(h, &p, &[], &[], &[], Some(share), from)
+        assert!(feed_off(h, &p, &[], &[], &[], Some(share), from, true)
             .1
             .is_some());
-        assert_eq!(feed_off(h, &p, &offs, &[], &[], Some(share), from).1, None);
+        assert_eq!(
+            feed_off(h, &p, &offs, &[], &[], Some(share), from, true).1,
+            None
+        );
         // Flute 1 breaks: from period `k` on it cuts nothing; its next pass trips.
         let k = (from / n + 3) * n + 1;
         for q in p.iter_mut().skip(k).step_by(n) {
             q.iter_mut().for_each(|x| *x = BASE + noise.next());
         }
-        let (period, _, _) = feed_off(h, &p, &offs, &[], &[], Some(share), from)
+        let (period, _, _) = feed_off(h, &p, &offs, &[], &[], Some(share), from, true)
             .1
             .unwrap();
         assert_eq!(period, k);
@@ -1748,15 +1775,18 @@ mod tests {
             "the swing, {over} of the limit, would not trip anyway"
         );
         let h = Handover::new(N, true, true, true);
-        let untold = feed_off(h, &p, &[], &[], &[], Some(share), from);
+        let untold = feed_off(h, &p, &[], &[], &[], Some(share), from, true);
         assert!(untold.1.is_some());
-        assert_eq!(feed_off(h, &p, &[], &told, &[], Some(share), from).1, None);
+        assert_eq!(
+            feed_off(h, &p, &[], &told, &[], Some(share), from, true).1,
+            None
+        );
         // Flute 1 breaks: from period `k` on it cuts nothing; its next pass trips.
         let k = held + n + 1;
         for q in p.iter_mut().skip(k).step_by(n) {
             q.iter_mut().for_each(|x| *x = BASE + noise.next());
         }
-        let (period, _, _) = feed_off(h, &p, &[], &told, &[], Some(share), from)
+        let (period, _, _) = feed_off(h, &p, &[], &told, &[], Some(share), from, true)
             .1
             .unwrap();
         assert_eq!(period, k);

@@ -704,9 +704,17 @@ impl Monitor {
         share: f32,
         floor_n: f32,
         quiet_n: f32,
+        whole: bool,
     ) {
-        self.handover
-            .arm_trip(&mut st.hand, rec.tooth, rec.f2_n, share, floor_n, quiet_n);
+        self.handover.arm_trip(
+            &mut st.hand,
+            rec.tooth,
+            rec.f2_n,
+            share,
+            floor_n,
+            quiet_n,
+            whole,
+        );
     }
 
     /// The drop trip passed in the open period at sample `s`: `(lost, limit)` [N]. Not

@@ -150,6 +150,7 @@ impl Pipeline {
             st.alarms.trip_share(),
             st.alarms.trip_floor_n(),
             st.alarms.trip_quiet_n(),
+            st.alarms.trip_whole(),
         );
         (rec, out)
     }
