@@ -125,7 +125,11 @@
 //!     what an exit that begins in that period could take (one feed's travel past what
 //!     the newest tooth allows and the next flute's reach past that, a heavy flute's
 //!     longer, even where that passes the two-feed exit; without the noise term): the
-//!     pair tells of the teeth before it, not of the period to come. The period before that
+//!     pair tells of the teeth before it, not of the period to come. Where the cut's span
+//!     is within a pitch that trip is judged inside the period alone, not on the whole
+//!     period at its close: the broken flute's next pass loses from its first angles, and a
+//!     loss that passes only whole lies at the cut's far end, an up-milling exit's first
+//!     period ([`crate::handover::Handover::arm_trip`]). The period before that
 //!     tooth's is armed at 0.3 and 4 sigma_R too (3 flutes or more): where arcs are wider
 //!     than a pitch no boundary falls between cuts, the broken flute's cut begins in the
 //!     window before the one that lost most, and so does its next pass, and the loss seen
