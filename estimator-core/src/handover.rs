@@ -1617,11 +1617,29 @@ mod tests {
         assert_eq!(feed_armed_from(h, &p, &[], Some(share), from).1, None);
         // Flute 1 breaks: from period `k` on it cuts nothing; its next pass trips.
         let k = (from / n + 3) * n + 1;
-        for q in p.iter_mut().skip(k).step_by(n) {
-            q.iter_mut().for_each(|x| *x = noise.next());
-        }
+        break_flute(&mut p, k, 0.0, &mut noise);
         let (period, _, _) = feed_armed_from(h, &p, &[], Some(share), from).1.unwrap();
         assert_eq!(period, k);
+    }
+
+    /// The worst loss of a period's running sum over its first bins (the last left out, as
+    /// inside the period), bin means `now` against `then` a revolution earlier.
+    fn first_bins_loss(now: &[f32], then: &[f32]) -> f32 {
+        let mut lost = 0.0f32;
+        let mut worst = 0.0f32;
+        for (a, b) in now.iter().zip(then).take(BINS - 1) {
+            lost += b - a;
+            worst = worst.max(lost);
+        }
+        worst
+    }
+
+    /// Flute 1 of the `N` breaks: from period `k` on it cuts nothing, the signal at `level`
+    /// and `noise`.
+    fn break_flute(p: &mut [Vec<f32>], k: usize, level: f32, noise: &mut Noise) {
+        for q in p.iter_mut().skip(k).step_by(N as usize) {
+            q.iter_mut().for_each(|x| *x = level + noise.next());
+        }
     }
 
     /// For the trip's allowances inside the period: periods of 5-sample bins, a steep chip's
@@ -1692,9 +1710,7 @@ mod tests {
         );
         // Flute 1 breaks: from period `k` on it cuts nothing; its next pass trips.
         let k = (from / n + 3) * n + 1;
-        for q in p.iter_mut().skip(k).step_by(n) {
-            q.iter_mut().for_each(|x| *x = BASE + noise.next());
-        }
+        break_flute(&mut p, k, BASE, &mut noise);
         let (period, _, _) = feed_off(h, &p, &offs, &[], &[], Some(share), from, true)
             .1
             .unwrap();
@@ -1761,13 +1777,7 @@ mod tests {
             .map(|k| {
                 let (now, then) = (bins(&p[k]), bins(&p[k - n]));
                 let limit = share * then.iter().sum::<f32>() + JITTER_SAMPLES * HIGH / bin;
-                let mut lost = 0.0f32;
-                let mut worst = 0.0f32;
-                for b in 0..BINS - 1 {
-                    lost += then[b] - now[b];
-                    worst = worst.max(lost);
-                }
-                worst / limit
+                first_bins_loss(&now, &then) / limit
             })
             .fold(0.0f32, f32::max);
         assert!(
@@ -1783,9 +1793,7 @@ mod tests {
         );
         // Flute 1 breaks: from period `k` on it cuts nothing; its next pass trips.
         let k = held + n + 1;
-        for q in p.iter_mut().skip(k).step_by(n) {
-            q.iter_mut().for_each(|x| *x = BASE + noise.next());
-        }
+        break_flute(&mut p, k, BASE, &mut noise);
         let (period, _, _) = feed_off(h, &p, &[], &told, &[], Some(share), from, true)
             .1
             .unwrap();
@@ -1855,13 +1863,7 @@ mod tests {
                 let content: f32 = then.iter().sum();
                 let bin = lens[k - 1] as f32 / BINS as f32;
                 let limit = share * content + JITTER_SAMPLES * HIGH / bin;
-                let mut lost = 0.0f32;
-                let mut worst = 0.0f32;
-                for b in 0..BINS - 1 {
-                    lost += then[b] - now[b];
-                    worst = worst.max(lost);
-                }
-                worst / limit
+                first_bins_loss(&now, &then) / limit
             })
             .fold(0.0f32, f32::max);
         assert!(
@@ -1872,9 +1874,7 @@ mod tests {
         assert_eq!(feed_armed_from(h, &p, &[], Some(share), from).1, None);
         // Flute 1 breaks in the ramp: from period `k` on it cuts nothing; its next pass trips.
         let k = ramp + n + 1;
-        for q in p.iter_mut().skip(k).step_by(n) {
-            q.iter_mut().for_each(|x| *x = BASE + noise.next());
-        }
+        break_flute(&mut p, k, BASE, &mut noise);
         let (period, _, _) = feed_armed_from(h, &p, &[], Some(share), from).1.unwrap();
         assert_eq!(period, k);
     }
