@@ -780,7 +780,11 @@ const TRIP_MAX_SHARE: f32 = 0.9;
 /// own period, the next flute's gain spreads over two where the arcs overlap.
 const EVIDENCE_SIGMAS: f32 = 4.5;
 /// ... or this many where the loss's own record was flagged transient (an exit may begin
-/// with a flagged record: seed 110, normal case 81, a pair of 4.7 at 4.5 alone).
+/// with a flagged record: seed 110, normal case 81, a pair of 4.7 at 4.5 alone), and
+/// then the gain of its own past [`EVIDENCE_EACH_SIGMAS`] too: a sudden exit's first loss
+/// alone passes the pair's sum (seed 6125 normal 104: 3 flutes under heavy runout, the
+/// exit's first tooth lost 5.5 sigma_R on a flagged record, the next tooth's loss hidden by
+/// the spindle current's lag left it 15 N up, and its period then lost 39 %).
 const EVIDENCE_FLAGGED_SIGMAS: f32 = 5.0;
 /// ... and, flagged or not, only where the revolution before the loss held its force
 /// against the one three revolutions earlier (an exit fades slowly), to this many sigma of
@@ -2124,9 +2128,9 @@ impl Alarms {
 
     /// Whether the tooth before the newest lost force from one revolution earlier and the
     /// newest gained (`r0`), together by more than [`EVIDENCE_SIGMAS`] of `R` (or
-    /// [`EVIDENCE_FLAGGED_SIGMAS`] unless `loss_steady`, the loss's record unflagged), the loss by
-    /// [`EVIDENCE_EACH_SIGMAS`] (`var`: E's variance before this tooth's `E` widens it): a
-    /// flute that broke inside its period, its loss and the next flute's gain under the
+    /// [`EVIDENCE_FLAGGED_SIGMAS`] unless `loss_steady`, the loss's record unflagged), the
+    /// loss (and after a flagged loss the gain) by [`EVIDENCE_EACH_SIGMAS`] (`var`: E's
+    /// variance before this tooth's `E` widens it): a flute that broke inside its period, its loss and the next flute's gain under the
     /// thresholds. The gain need only be one: where the arcs overlap, the next flute's
     /// gain spreads over two periods, and an exit's next tooth loses more, never gains; but
     /// it must stand above the loss an exit's share would take from it
@@ -2158,6 +2162,7 @@ impl Alarms {
         r0 > 0.0
             && r1 < 0.0
             && r1 * r1 > each
+            && (loss_steady || r0 * r0 > each)
             && (!before_lost || r0 > -0.5 * (r1 + r2))
             && both * both > sigmas * sigmas * var_r
             && above_exit_of(r0, r1, (st.force(self.n + 1), st.force(self.n)), var_r)
@@ -3368,6 +3373,42 @@ mod tests {
             floor.is_infinite() || share >= TRIP_SHARE,
             "{floor} {share}"
         );
+    }
+
+    /// After a flagged loss, the pair's sum past [`EVIDENCE_FLAGGED_SIGMAS`] is no hand-over
+    /// unless the gain stands on its own past [`EVIDENCE_EACH_SIGMAS`] (seed 6125 normal 104:
+    /// a sudden exit's first tooth lost 5.5 sigma_R on a flagged record, the next tooth's
+    /// loss hidden by the spindle current's lag left it a little up, and its period lost 39
+    /// %). The same pair after an unflagged loss is a hand-over, and so is a flagged loss
+    /// with a gain of its own.
+    #[test]
+    fn after_a_flagged_loss_the_gain_stands_on_its_own() {
+        let arming = |gain: f32, flagged: bool| {
+            let after = [0.0, -30.0, gain, 0.0, 0.0];
+            let flagged = flagged.then_some(161);
+            // The pair against E's spread before the gain (record 162) widened it.
+            let f = forces(3.0, 40, &after);
+            let r = |k: usize| f[k] - f[k - 4];
+            let (before, _) = armed_after(&after[..2], flagged);
+            let sigma_r = libm::sqrtf(0.5 * before.e_var);
+            let (st, _) = armed_after(&after, flagged);
+            let (pair, gain) = ((r(162) - r(161)) / sigma_r, r(162) / sigma_r);
+            (st.trip_floor_n(), st.trip_share(), pair, gain)
+        };
+        let (_, share, pair, gain) = arming(6.0, false);
+        assert!(
+            pair > EVIDENCE_FLAGGED_SIGMAS && gain > 0.0 && gain < EVIDENCE_EACH_SIGMAS,
+            "{pair} {gain}"
+        );
+        assert_eq!(share, EVIDENCE_SHARE, "{pair} {gain}");
+        let (floor, share, pair, gain) = arming(6.0, true);
+        assert!(
+            floor.is_infinite() || share >= TRIP_SHARE,
+            "{floor} {share}: {pair} {gain}"
+        );
+        let (_, share, pair, gain) = arming(18.0, true);
+        assert!(gain > EVIDENCE_EACH_SIGMAS, "{gain}");
+        assert_eq!(share, EVIDENCE_SHARE, "{pair} {gain}");
     }
 
     /// After a pair beyond 6 sigma_R (24 N lost and gained, about 10 sigma_R together: no
