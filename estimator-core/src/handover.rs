@@ -229,6 +229,9 @@ pub struct HandoverState {
     closed_off: f32,
     start_off: [f32; MAX_TEETH],
     start_lag: [f32; MAX_TEETH],
+    /// Boundaries in a row, the newest last, whose lag changed from their tooth's a
+    /// revolution earlier by no more than the jitter (`HandoverState::lag_quiet`).
+    lag_quiet: u8,
     /// The closed period's change from its tooth's re-cut profile (its first period after
     /// a move), in the spindle channel's units of a tooth average; NaN where it was not
     /// compared with one.
@@ -240,6 +243,16 @@ impl HandoverState {
     /// tangential force [N] (its first period since the move); NaN where it had none.
     pub fn recut_change_n(&self) -> f32 {
         self.recut * self.per_unit_n
+    }
+
+    /// How many period boundaries in a row, the newest (the open period's start) last, lie
+    /// where the same tooth's did a revolution earlier to within what the encoder's jitter
+    /// moves a boundary at the pulse ([`JITTER_SAMPLES`]), after the jitter of the lag
+    /// measured on the pulses: after a speed ramp, once the tracked times have caught up,
+    /// a tooth's window against its own a revolution earlier holds the same angles as it
+    /// would at the pulse (saturates at 255).
+    pub fn lag_quiet(&self) -> u8 {
+        self.lag_quiet
     }
 
     /// The variance of a whole period's change from its tooth's a revolution earlier on
@@ -286,6 +299,7 @@ impl Default for HandoverState {
             jitter_bins: 0.0,
             start_off: [0.0; MAX_TEETH],
             start_lag: [0.0; MAX_TEETH],
+            lag_quiet: 0,
             start_l: 0.0,
             edge: 0.0,
             run: 0.0,
@@ -414,6 +428,13 @@ impl Handover {
         if let (Some(r), Some(l)) = (st.start_off.get_mut(open), st.start_lag.get_mut(open)) {
             let lagged = libm::fabsf(lag_samples - *l) - LAG_JITTER_SAMPLES;
             st.shift = libm::fabsf(off_samples - *r) + fmath::max(lagged, 0.0);
+            // (A NaN lag is no quiet boundary; `max` above takes it as none.)
+            let moved = st.shift > JITTER_SAMPLES || lagged.is_nan();
+            st.lag_quiet = if moved {
+                0
+            } else {
+                st.lag_quiet.saturating_add(1)
+            };
             *r = off_samples;
             *l = lag_samples;
         }
@@ -1647,6 +1668,36 @@ mod tests {
     const LONG: usize = 5 * BINS;
     const HIGH: f32 = 10.0;
     const BASE: f32 = 0.2;
+
+    /// A boundary is quiet where its lag behind the pulses moved from the same tooth's a
+    /// revolution earlier by no more than the jitter of the lag measured on the pulses
+    /// (`LAG_JITTER_SAMPLES`, 3) and a boundary at the pulse's own jitter (`JITTER_SAMPLES`,
+    /// 1): 4 samples. The count runs over boundaries in a row and restarts at one that
+    /// moved more, at a moved window (its offset) and at a NaN lag.
+    #[test]
+    fn quiet_boundaries_are_counted_in_a_row() {
+        let h = Handover::new(N, true, true, true);
+        let mut st = HandoverState::default();
+        let mut quiet = |off: f32, lag: f32| {
+            h.period_start(&mut st, off, lag);
+            st.lag_quiet()
+        };
+        // (Every call is the open tooth's, against the call before.)
+        assert_eq!(quiet(0.0, -15.0), 0, "a ramp's lag");
+        assert_eq!(quiet(0.0, -11.0), 1, "4 samples caught up: the jitter's");
+        assert_eq!(quiet(0.0, -6.9), 0, "4.1 samples");
+        assert_eq!(quiet(0.0, -5.0), 1);
+        assert_eq!(quiet(0.0, -2.0), 2);
+        assert_eq!(quiet(0.0, -1.0), 3);
+        assert_eq!(quiet(2.0, -1.0), 0, "the window moved");
+        assert_eq!(quiet(2.0, 0.0), 1);
+        assert_eq!(quiet(2.0, f32::NAN), 0);
+        let mut st = HandoverState::default();
+        for k in 1..300 {
+            h.period_start(&mut st, 0.0, (k % 2) as f32);
+        }
+        assert_eq!(st.lag_quiet(), u8::MAX);
+    }
 
     /// The window at the pulse, a down-milling chip (thickest at its steep entry)
     /// mid-period: each pulse lies up to two samples off the pulses' tracked times (the

@@ -455,6 +455,13 @@ impl MonitorState {
         self.hand.recut_change_n()
     }
 
+    /// Boundaries in a row that lie where their tooth's did a revolution earlier
+    /// ([`HandoverState::lag_quiet`]).
+    #[inline(always)]
+    pub(crate) fn lag_quiet(&self) -> u8 {
+        self.hand.lag_quiet()
+    }
+
     /// The drop trip's channel's noise ([`HandoverState::change_var_n2`]).
     #[inline(always)]
     pub(crate) fn change_var_n2(&self) -> f32 {

@@ -141,9 +141,14 @@ impl Pipeline {
         let model = Some(st.monitor.model_n());
         let recut = st.monitor.recut_change_n();
         let var_t = st.monitor.change_var_n2();
-        let out = self
-            .alarms
-            .process_with(&mut st.alarms, &st.last, model, (recut, var_t), probe);
+        let quiet = st.monitor.lag_quiet();
+        let out = self.alarms.process_with(
+            &mut st.alarms,
+            &st.last,
+            model,
+            (recut, var_t, quiet),
+            probe,
+        );
         self.monitor.arm_trip(
             &mut st.monitor,
             &st.last,
