@@ -1229,7 +1229,9 @@ impl Alarms {
         let raise_one_rev = |value, threshold| {
             let first = raised_cell.get().is_none();
             raise(Cause::Breakage, value, threshold);
-            one_rev_cell.set(one_rev_cell.get() || first && raised_cell.get().is_some());
+            if first && raised_cell.get().is_some() {
+                one_rev_cell.set(true);
+            }
         };
 
         // Revolution mean of the watched force (runout-free), when the last N are armed
@@ -3421,6 +3423,20 @@ mod tests {
         }
     }
 
+    /// The trip's floor and share after `armed_after(after, ..)`, the loss's record (161)
+    /// `flagged`; and the pair (loss at 161, gain at 162) and the gain alone in sigma_R of
+    /// `E`'s spread before the gain widened it.
+    fn pair_arming(after: &[f32], flagged: bool) -> (f32, f32, f32, f32) {
+        let flagged = flagged.then_some(161);
+        let f = forces(3.0, 40, after);
+        let r = |k: usize| f[k] - f[k - 4];
+        let (before, _) = armed_after(&after[..2], flagged);
+        let sigma_r = libm::sqrtf(0.5 * before.e_var);
+        let (st, _) = armed_after(after, flagged);
+        let (pair, gain) = ((r(162) - r(161)) / sigma_r, r(162) / sigma_r);
+        (st.trip_floor_n(), st.trip_share(), pair, gain)
+    }
+
     /// A pair between 4.5 and 5 sigma_R is a hand-over where the loss's own record is not
     /// transient, and none where it is (seed 110, normal case 81: a light cut whose exit
     /// began with a flagged record, one tooth down and the next up by 4.7 sigma_R).
@@ -3428,14 +3444,8 @@ mod tests {
     fn a_weak_pair_needs_its_loss_unflagged() {
         let after = [0.0, -14.5, 14.5, 0.0, 0.0];
         let arming = |flagged: bool| {
-            let flagged = flagged.then_some(161);
-            // The pair against E's spread before the gain (record 162) widened it.
-            let f = forces(3.0, 40, &after);
-            let r = |k: usize| f[k] - f[k - 4];
-            let (before, _) = armed_after(&after[..2], flagged);
-            let pair = (r(162) - r(161)) / libm::sqrtf(0.5 * before.e_var);
-            let (st, _) = armed_after(&after, flagged);
-            (st.trip_floor_n(), st.trip_share(), pair)
+            let (floor, share, pair, _) = pair_arming(&after, flagged);
+            (floor, share, pair)
         };
         let (_, share, pair) = arming(false);
         assert!(
@@ -3458,18 +3468,7 @@ mod tests {
     /// with a gain of its own.
     #[test]
     fn after_a_flagged_loss_the_gain_stands_on_its_own() {
-        let arming = |gain: f32, flagged: bool| {
-            let after = [0.0, -30.0, gain, 0.0, 0.0];
-            let flagged = flagged.then_some(161);
-            // The pair against E's spread before the gain (record 162) widened it.
-            let f = forces(3.0, 40, &after);
-            let r = |k: usize| f[k] - f[k - 4];
-            let (before, _) = armed_after(&after[..2], flagged);
-            let sigma_r = libm::sqrtf(0.5 * before.e_var);
-            let (st, _) = armed_after(&after, flagged);
-            let (pair, gain) = ((r(162) - r(161)) / sigma_r, r(162) / sigma_r);
-            (st.trip_floor_n(), st.trip_share(), pair, gain)
-        };
+        let arming = |gain: f32, flagged: bool| pair_arming(&[0.0, -30.0, gain, 0.0, 0.0], flagged);
         let (_, share, pair, gain) = arming(6.0, false);
         assert!(
             pair > EVIDENCE_FLAGGED_SIGMAS && gain > 0.0 && gain < EVIDENCE_EACH_SIGMAS,
