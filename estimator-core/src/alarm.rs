@@ -1229,9 +1229,7 @@ impl Alarms {
         let raise_one_rev = |value, threshold| {
             let first = raised_cell.get().is_none();
             raise(Cause::Breakage, value, threshold);
-            if first && raised_cell.get().is_some() {
-                one_rev_cell.set(true);
-            }
+            one_rev_cell.set(one_rev_cell.get() || first && raised_cell.get().is_some());
         };
 
         // Revolution mean of the watched force (runout-free), when the last N are armed
