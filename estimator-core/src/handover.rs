@@ -250,7 +250,8 @@ impl HandoverState {
     /// moves a boundary at the pulse ([`JITTER_SAMPLES`]), after the jitter of the lag
     /// measured on the pulses: after a speed ramp, once the tracked times have caught up,
     /// a tooth's window against its own a revolution earlier holds the same angles as it
-    /// would at the pulse (saturates at 255).
+    /// would at the pulse (saturates at 255). A boundary at the pulse counts unless it lay
+    /// further off the tracked times than two pulses' jitter apart ([`LAG_JITTER_SAMPLES`]).
     pub fn lag_quiet(&self) -> u8 {
         self.lag_quiet
     }
@@ -428,8 +429,13 @@ impl Handover {
         if let (Some(r), Some(l)) = (st.start_off.get_mut(open), st.start_lag.get_mut(open)) {
             let lagged = libm::fabsf(lag_samples - *l) - LAG_JITTER_SAMPLES;
             st.shift = libm::fabsf(off_samples - *r) + fmath::max(lagged, 0.0);
-            // (A NaN lag is no quiet boundary; `max` above takes it as none.)
-            let moved = st.shift > JITTER_SAMPLES || lagged.is_nan();
+            // (A NaN lag is no quiet boundary; `max` above takes it as none.) A boundary at
+            // the pulse holds its angle to the jitter whatever the tracked times' lag.
+            let moved = if self.whole_at_close {
+                st.shift > JITTER_SAMPLES
+            } else {
+                libm::fabsf(off_samples - *r) > LAG_JITTER_SAMPLES
+            } || lagged.is_nan();
             st.lag_quiet = if moved {
                 0
             } else {
@@ -1673,30 +1679,46 @@ mod tests {
     /// revolution earlier by no more than the jitter of the lag measured on the pulses
     /// (`LAG_JITTER_SAMPLES`, 3) and a boundary at the pulse's own jitter (`JITTER_SAMPLES`,
     /// 1): 4 samples. The count runs over boundaries in a row and restarts at one that
-    /// moved more, at a moved window (its offset) and at a NaN lag.
+    /// moved more, at a moved window (its offset) and at a NaN lag. At the pulse the lag
+    /// moves no boundary, and the jitter of two pulses does not count.
     #[test]
     fn quiet_boundaries_are_counted_in_a_row() {
-        let h = Handover::new(N, true, true, true);
-        let mut st = HandoverState::default();
-        let mut quiet = |off: f32, lag: f32| {
-            h.period_start(&mut st, off, lag);
-            st.lag_quiet()
+        // The count after each boundary `(off, lag)`, every one the open tooth's (against
+        // the call before), the boundary placed or at the pulse.
+        let counts = |placed: bool, calls: &[(f32, f32)]| -> std::vec::Vec<u8> {
+            let h = Handover::new(N, true, placed, true);
+            let mut st = HandoverState::default();
+            let count = |&(off, lag): &(f32, f32)| {
+                h.period_start(&mut st, off, lag);
+                st.lag_quiet()
+            };
+            calls.iter().map(count).collect()
         };
-        // (Every call is the open tooth's, against the call before.)
-        assert_eq!(quiet(0.0, -15.0), 0, "a ramp's lag");
-        assert_eq!(quiet(0.0, -11.0), 1, "4 samples caught up: the jitter's");
-        assert_eq!(quiet(0.0, -6.9), 0, "4.1 samples");
-        assert_eq!(quiet(0.0, -5.0), 1);
-        assert_eq!(quiet(0.0, -2.0), 2);
-        assert_eq!(quiet(0.0, -1.0), 3);
-        assert_eq!(quiet(2.0, -1.0), 0, "the window moved");
-        assert_eq!(quiet(2.0, 0.0), 1);
-        assert_eq!(quiet(2.0, f32::NAN), 0);
-        let mut st = HandoverState::default();
-        for k in 1..300 {
-            h.period_start(&mut st, 0.0, (k % 2) as f32);
-        }
-        assert_eq!(st.lag_quiet(), u8::MAX);
+        // A ramp's lag; 4 samples caught up (the jitter's); 4.1; the window moved; NaN.
+        let placed = [
+            (0.0, -15.0),
+            (0.0, -11.0),
+            (0.0, -6.9),
+            (0.0, -5.0),
+            (0.0, -2.0),
+            (0.0, -1.0),
+            (2.0, -1.0),
+            (2.0, 0.0),
+            (2.0, f32::NAN),
+        ];
+        assert_eq!(counts(true, &placed), [0, 1, 0, 1, 2, 3, 0, 1, 0]);
+        let steady: std::vec::Vec<_> = (1..300).map(|k| (0.0, (k % 2) as f32)).collect();
+        assert_eq!(counts(true, &steady).last(), Some(&u8::MAX));
+        // At the pulse: a ramp's lag; two pulses' jitter; past it; NaN, and against it.
+        let pulse = [
+            (0.0, -15.0),
+            (3.0, 0.0),
+            (-0.1, 0.0),
+            (0.0, f32::NAN),
+            (0.0, 0.0),
+            (0.0, 0.0),
+        ];
+        assert_eq!(counts(false, &pulse), [1, 2, 0, 0, 0, 1]);
     }
 
     /// The window at the pulse, a down-milling chip (thickest at its steep entry)

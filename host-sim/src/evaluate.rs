@@ -34,6 +34,11 @@
 //! little of that cut (its chip is thin there) and the next flute takes only that: the
 //! first revolution may hold little to see before the broken flute comes round.
 //! False alarms are counted per hour of cutting (time the truth has the tool in the work).
+//!
+//! A case is its kind, index and draw seed. Seeds below [`LEGACY_SEEDS`] draw as the
+//! first evaluations did (the cases named in tests reproduce), where seeds that differ only
+//! in bits 8-14 share their cases' draws with other noise; from there on each case draws
+//! its own, so a block of seeds there is held out in its cuts as well as in its noise.
 
 use anyhow::{anyhow, bail, Result};
 use estimator_core::alarm::{AlarmConfig, Cause, DriftReference, EnvelopeRecorder};
@@ -284,10 +289,35 @@ const WEAR_RISE: f64 = 0.5;
 /// Wear set: the tracker's forgetting factor (memory of about 20 revolutions).
 const WEAR_LAMBDA: f32 = 0.95;
 
+/// Seeds below this draw their cases as the first evaluations did, so that the cases named
+/// in tests and in BENCHMARKS.md reproduce: from the seed XOR the index shifted 8 bits, so
+/// seeds that differ only in bits 8-14 share their draws (seeds 1-6528 hold 32 768
+/// distinct draws of a 120-case set, and a block of 96 seeds past 256 repeats earlier
+/// ones' geometry with other noise). From here on every seed and index draws its own
+/// (`draw_keys`).
+pub const LEGACY_SEEDS: u64 = 8192;
+
+/// The key of case `index`'s draw and its noise seed, at draw seed `seed`.
+fn draw_keys(kind: Kind, index: usize, seed: u64) -> (u64, u64) {
+    let of_kind = (kind as u64 + 1).wrapping_mul(0x0051_ed27);
+    if seed < LEGACY_SEEDS {
+        (
+            seed ^ ((index as u64) << 8) ^ of_kind,
+            seed.wrapping_add(index as u64 * 7919),
+        )
+    } else {
+        // Index below 256 (the largest set is 120): `seed << 8 | index` is one to one, and
+        // past every legacy noise seed (under 8192 + 255 * 7919). Scenario seeds are TOML
+        // integers (i64): the top bit stays clear.
+        let case = (seed << 8 | (index as u64 & 0xff)) & (u64::MAX >> 1);
+        (sim::chain::splitmix64(case) ^ of_kind, case)
+    }
+}
+
 /// Draws case `index` of `kind` from `seed`.
 pub fn draw_case(kind: Kind, index: usize, seed: u64) -> Result<Case> {
-    let mut d =
-        Draw::new(seed ^ ((index as u64) << 8) ^ (kind as u64 + 1).wrapping_mul(0x0051_ed27));
+    let (draw_key, seed_case) = draw_keys(kind, index, seed);
+    let mut d = Draw::new(draw_key);
     let flutes: u8 = d.pick(&[2, 3, 4]);
     let radius = d.pick(&[4.0, 5.0, 6.0, 8.0]);
     let rpm = d.range(1200.0, 4000.0);
@@ -414,7 +444,6 @@ pub fn draw_case(kind: Kind, index: usize, seed: u64) -> Result<Case> {
         MillingMode::Down => "down",
         MillingMode::Up => "up",
     };
-    let seed_case = seed.wrapping_add(index as u64 * 7919);
     let runout_list = runout
         .iter()
         .map(|r| format!("{r}"))
@@ -970,6 +999,40 @@ mod tests {
             }
         }
         assert!(raised.is_empty(), "{raised:#?}");
+    }
+
+    /// From `LEGACY_SEEDS` on, no two cases share a draw: seeds 256 apart (which the legacy
+    /// key `seed ^ index << 8` maps onto each other's cases) draw other tools and other
+    /// noise, and every case's noise seed lies past the legacy ones.
+    #[test]
+    fn every_case_past_the_legacy_seeds_draws_its_own() {
+        let mut tools = std::collections::HashSet::new();
+        let mut noise = std::collections::HashSet::new();
+        for seed in [LEGACY_SEEDS, LEGACY_SEEDS + 256, LEGACY_SEEDS + 512 + 1] {
+            for index in 0..120 {
+                let case = draw_case(Kind::Normal, index, seed).expect("a case");
+                let t = &case.scenario.tool;
+                let key: Vec<u64> = t.runout_mm.iter().map(|r| r.to_bits()).collect();
+                assert!(
+                    tools.insert(key),
+                    "seed {seed} index {index}: a drawn tool again"
+                );
+                assert!(
+                    noise.insert(case.scenario.seed),
+                    "seed {seed} index {index}"
+                );
+                assert!(case.scenario.seed > LEGACY_SEEDS + 255 * 7919);
+            }
+        }
+        // The legacy key's repeat, which the keys above avoid: seed 60's case 110 is seed
+        // 6460's case 119.
+        let tool = |index, seed| {
+            draw_case(Kind::Break, index, seed)
+                .expect("a case")
+                .scenario
+                .tool
+        };
+        assert_eq!(tool(110, 60).runout_mm, tool(119, 6460).runout_mm);
     }
 
     /// A run over consecutive seeds, on two threads taking cases as they come free, gives

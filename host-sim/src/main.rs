@@ -175,11 +175,14 @@ enum Command {
         /// `small` (CI) or `full` (BENCHMARKS.md).
         #[arg(long, default_value = "small")]
         set: SetArg,
-        /// Seed of the draws (the first, with `--seeds`).
+        /// Seed of the draws (the first, with `--seeds`). Seeds below 8192 draw as the first
+        /// evaluations did, so the cases named in tests reproduce, and seeds that differ only
+        /// in bits 8-14 share their draws (tool, cut and damage; other noise); from 8192 on
+        /// every case is its own.
         #[arg(long, default_value_t = 1)]
         seed: u64,
         /// Run the set at this many consecutive seeds from `--seed` and report them pooled
-        /// (a held-out block: `--seed 3553 --seeds 96`), with every false alarm and every
+        /// (a held-out block: `--seed 8193 --seeds 96`), with every false alarm and every
         /// full breakage missed or later than a revolution named by seed, set and index.
         #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..=100_000))]
         seeds: u64,

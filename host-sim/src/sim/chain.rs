@@ -18,6 +18,14 @@ use estimator_core::tooth::SyncMode;
 use std::collections::VecDeque;
 use std::f64::consts::TAU;
 
+/// splitmix64's output step: a bijection of `u64` that scatters nearby inputs.
+pub fn splitmix64(x: u64) -> u64 {
+    let mut z = x.wrapping_add(0x9e37_79b9_7f4a_7c15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    z ^ (z >> 31)
+}
+
 /// xorshift64* with Box-Muller: deterministic, fast, good enough for sensor noise.
 #[derive(Clone, Debug)]
 pub struct Rng {
@@ -30,13 +38,8 @@ impl Rng {
     /// Stream `stream` of seed `seed` (seeds mixed by splitmix64, so nearby seeds and
     /// streams are unrelated).
     pub fn new(seed: u64, stream: u64) -> Rng {
-        let mut z = seed ^ stream.wrapping_mul(0x9e37_79b9_7f4a_7c15);
-        z = z.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^= z >> 31;
         Rng {
-            state: z.max(1),
+            state: splitmix64(seed ^ stream.wrapping_mul(0x9e37_79b9_7f4a_7c15)).max(1),
             spare: None,
         }
     }
