@@ -1781,7 +1781,12 @@ impl Alarms {
             st.steady_force_n = m;
             st.steady_tc_mm = rec.tc_mm;
         } else {
-            st.since_steady = st.since_steady.saturating_add(1);
+            // A moved window's odd period is the move's, not a tooth of the cut: no record
+            // after it is steady until a revolution mean spans the move again (seed 8572
+            // gone 5: the tool lost a tooth after a move, its first not-cutting record the
+            // fifth since the last steady one, against 2 revolutions of 2 flutes).
+            let moved = rec.status.contains(Status::WINDOW_MOVED);
+            st.since_steady = st.since_steady.saturating_add(u32::from(!moved));
             st.live_since_steady = st
                 .live_since_steady
                 .saturating_add((armed && f >= floor) as u8);
@@ -4500,6 +4505,54 @@ mod tests {
                 "lost at {lost_at} ({kept}), named at {i}"
             );
         }
+    }
+
+    /// A 2-flute tool lost a tooth after the window moved (seed 8572 gone 5, its forces):
+    /// the move's odd period, a full period and a partly cut one (both flagged transient
+    /// as the monitor flags them), one nearly empty, then not cutting, the fifth record
+    /// since the last steady one. The odd period is the move's: the collapse is within two
+    /// revolutions of the steady cut and the tool is lost. The same cut going on raises
+    /// nothing.
+    #[test]
+    fn a_tool_lost_just_after_a_moved_window_is_a_lost_tool() {
+        let est = EstimatorConfig {
+            force_floor_n: 30.0,
+            tool: crate::Tool {
+                flutes: 2,
+                ..EstimatorConfig::default().tool
+            },
+            ..EstimatorConfig::default()
+        };
+        let a = AlarmConfig::default().build(&est).unwrap();
+        let first = |lost: bool| {
+            let mut noise = forces(3.0, 30, &[]).into_iter();
+            let mut st = AlarmState::default();
+            for i in 0..100usize {
+                let level = if i % 2 == 0 { 230.0 } else { 290.0 };
+                let f = match (lost, i) {
+                    (_, 80) => 262.0,
+                    (true, 81) => 202.0,
+                    (true, 82) => 78.0,
+                    (true, 83) => 2.6,
+                    (true, 84..) => 0.0,
+                    _ => level + noise.next().unwrap() - if i % 4 == 0 { 130.0 } else { 100.0 },
+                };
+                let status = match (lost, i) {
+                    (_, 80) => Status::WINDOW_MOVED | Status::PERIOD_INVALID,
+                    (true, 81..=83) => Status::TRANSIENT | Status::SETTLING,
+                    (true, 84..) => Status::NOT_CUTTING,
+                    _ => Status::AMBIGUOUS,
+                };
+                let mut rec = record(i, f, status);
+                rec.tooth = (i % 2) as u8;
+                if let Some(e) = a.process(&mut st, &rec).event {
+                    return Some((i, e.cause));
+                }
+            }
+            None
+        };
+        assert_eq!(first(false), None);
+        assert_eq!(first(true), Some((84, Cause::ToolGone)));
     }
 
     /// A 2-flute tool whose flute breaks in the first period armed after a forget: that
