@@ -4507,6 +4507,19 @@ mod tests {
         }
     }
 
+    /// Default alarms for a 2-flute tool, the not-cutting floor at `floor_n`.
+    fn alarms_2_flutes(floor_n: f32) -> Alarms {
+        let est = EstimatorConfig {
+            force_floor_n: floor_n,
+            tool: crate::Tool {
+                flutes: 2,
+                ..EstimatorConfig::default().tool
+            },
+            ..EstimatorConfig::default()
+        };
+        AlarmConfig::default().build(&est).unwrap()
+    }
+
     /// A 2-flute tool lost a tooth after the window moved (seed 8572 gone 5, its forces):
     /// the move's odd period, a full period and a partly cut one (both flagged transient
     /// as the monitor flags them), one nearly empty, then not cutting, the fifth record
@@ -4515,15 +4528,7 @@ mod tests {
     /// nothing.
     #[test]
     fn a_tool_lost_just_after_a_moved_window_is_a_lost_tool() {
-        let est = EstimatorConfig {
-            force_floor_n: 30.0,
-            tool: crate::Tool {
-                flutes: 2,
-                ..EstimatorConfig::default().tool
-            },
-            ..EstimatorConfig::default()
-        };
-        let a = AlarmConfig::default().build(&est).unwrap();
+        let a = alarms_2_flutes(30.0);
         let first = |lost: bool| {
             let mut noise = forces(3.0, 30, &[]).into_iter();
             let mut st = AlarmState::default();
@@ -4564,15 +4569,7 @@ mod tests {
     /// 210 N mean, under `MISSING_SHARE`); steady runout there is not a breakage.
     #[test]
     fn a_2_flute_tool_broken_in_the_first_period_after_a_forget_is_caught() {
-        let est = EstimatorConfig {
-            force_floor_n: 5.0,
-            tool: crate::Tool {
-                flutes: 2,
-                ..EstimatorConfig::default().tool
-            },
-            ..EstimatorConfig::default()
-        };
-        let a = AlarmConfig::default().build(&est).unwrap();
+        let a = alarms_2_flutes(5.0);
         // Flute 0 at 195 N, flute 1 at 225 N, noise 14 N; the window moved at record 80.
         // `broken`: flute 1 breaks 40 % into its period at record 81, flute 0 cuts its
         // chip from then on.
