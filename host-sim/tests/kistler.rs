@@ -275,8 +275,8 @@ fn real_recordings_replay_with_runout_and_steady_revolutions() {
             .expect("config");
         loaded.apply_kistler(&o).expect("kistler");
         // Windows at the pulse: the assertions below count teeth of exactly 50 samples
-        // (a placed window moves once, after 8 revolutions, and the period of the move
-        // is longer or shorter).
+        // (a placed window moves once, after `window::REVIEW_REVS` revolutions, and the
+        // period of the move is longer or shorter).
         loaded.config.align_window = false;
         assert_eq!(loaded.config.sample_rate_hz, 10_000.0);
         let mut recs = Vec::new();
