@@ -60,12 +60,12 @@ pub const PROFILE_BINS: usize = 16;
 /// Revolutions of steady cutting a profile is reviewed after.
 ///
 /// Until the review the boundary is at the pulse, and a flute that breaks there can have
-/// its loss and the next flute's gain in the same averages. At 8, in 19 of the 107 late
+/// its loss and the next flute's gain in the same averages. At 8, in 19 of the 106 late
 /// breaks at seeds 8193-8768 the window moved after the damage (the break came within 8
 /// revolutions of the entry settling), up to 7.9 revolutions late (seed 8301 break 53);
-/// at 4, 46 of the 107 came within a revolution and one was later. Four revolutions of
+/// at 4, 46 of the 106 came within a revolution and one was later. Four revolutions of
 /// 2 to 4 flutes are 8 to 16 periods a bin: the least-force bin stands out of 3 % noise.
-/// 2 caught 4 more of the 107 and was not taken further: a shorter profile is more of
+/// 2 caught 4 more of the 106 and was not taken further: a shorter profile is more of
 /// an entry's last settling.
 pub const REVIEW_REVS: u32 = 4;
 /// Revolutions of transient records a profile goes on through.
@@ -377,6 +377,7 @@ impl Window {
         // stretch; a single quiet bin is still its own pick.
         let at = |k: usize| r2.get(k % PROFILE_BINS).copied().unwrap_or(0.0);
         let (mut j, mut least3) = (0usize, f32::INFINITY);
+        // (From `PROFILE_BINS` on, so that the bin before the first is `k - 1`.)
         for k in PROFILE_BINS..2 * PROFILE_BINS {
             let r = at(k - 1) + 2.0 * at(k) + at(k + 1);
             if r < least3 {
@@ -384,7 +385,7 @@ impl Window {
             }
         }
         let least = at(j);
-        let boundary = 0.5 * (r2[0] + r2[PROFILE_BINS - 1]);
+        let boundary = 0.5 * (at(0) + at(PROFILE_BINS - 1));
         // Not `<=`: a NaN profile (absurd conversion) moves nothing.
         #[allow(clippy::neg_cmp_op_on_partial_ord)]
         if !(boundary - least > MOVE_SHARE * mean) {
@@ -555,19 +556,30 @@ mod tests {
         }
     }
 
-    /// The record at which a profile with one quiet bin (5 of 16) moves the boundary,
-    /// under `status(record)`, the pulses' interval `len(record)`.
-    fn moves_at(status: impl Fn(u32) -> Status, len: impl Fn(u32) -> f32) -> Option<u32> {
+    /// The record at which `profile` (squared resultants per bin) moves the boundary, and
+    /// the phase it moves to, under `status(record)`, the pulses' interval `len(record)`.
+    fn moves_with(
+        profile: [f32; PROFILE_BINS],
+        status: impl Fn(u32) -> Status,
+        len: impl Fn(u32) -> f32,
+    ) -> Option<(u32, u16)> {
         let w = window(1);
         let mut st = WindowState::default();
-        (0..400).find(|&r| {
+        let r = (0..400).find(|&r| {
             st.pulse_len = len(r);
-            for (k, (p, n)) in st.prof.iter_mut().zip(&mut st.prof_n).enumerate() {
-                *p = [0.0, 0.0, if k == 5 { 0.0 } else { 1.0 }];
+            for ((p, n), &c) in st.prof.iter_mut().zip(&mut st.prof_n).zip(&profile) {
+                *p = [0.0, 0.0, c];
                 *n = 1;
             }
-            w.review(&mut st, status(r), |[_, _, c]| c * c)
-        })
+            w.review(&mut st, status(r), |[_, _, c]| c)
+        })?;
+        Some((r, st.phase))
+    }
+
+    /// ... a profile with one quiet bin (5 of 16): the record it moves at.
+    fn moves_at(status: impl Fn(u32) -> Status, len: impl Fn(u32) -> f32) -> Option<u32> {
+        let profile = core::array::from_fn(|k| if k == 5 { 0.0 } else { 1.0 });
+        moves_with(profile, status, len).map(|(r, _)| r)
     }
 
     /// A quiet stretch of bins at the noise (7-15 here, the cut in 0-6): the boundary goes
@@ -575,26 +587,12 @@ mod tests {
     /// next to the cut's start); a lone quiet bin is still picked (`moves_at`).
     #[test]
     fn the_boundary_goes_to_the_middle_of_a_quiet_stretch() {
-        let w = window(1);
-        let mut st = WindowState::default();
         let quiet = [0.05, 0.04, 0.03, 0.04, 0.05, 0.06, 0.04, 0.02, 0.3];
-        let mut moved = false;
-        for _ in 0..=REVIEW_REVS * w.teeth as u32 {
-            st.pulse_len = 100.0;
-            for (k, (p, n)) in st.prof.iter_mut().zip(&mut st.prof_n).enumerate() {
-                let c = if k < 7 { 1.0 } else { quiet[k - 7] };
-                *p = [0.0, 0.0, c];
-                *n = 1;
-            }
-            moved = w.review(&mut st, Status::VALID, |[_, _, c]| c);
-            if moved {
-                break;
-            }
-        }
-        assert!(moved);
+        let profile = core::array::from_fn(|k| if k < 7 { 1.0 } else { quiet[k - 7] });
+        let (_, phase) = moves_with(profile, |_| Status::VALID, |_| 100.0).expect("moves");
         // The middle of bin 9 (0.04, between 0.03 and 0.05).
         assert_eq!(
-            st.phase,
+            phase,
             (((2 * 9 + 1) << 16) / (2 * PROFILE_BINS as u32)) as u16
         );
     }
