@@ -75,7 +75,12 @@
 //!     more than [`TRIP_SHARE`] (half) of the tooth's force one revolution earlier (and
 //!     6 sigma_R, every floor widened to the tangential channel's own noise where that is
 //!     the wider: the trip measures that channel alone) before the flute reaches its break
-//!     angle again. Armed after a record
+//!     angle again. The whole period at its close is judged too, where the cut's span
+//!     is within a pitch against the share with that channel's noise in its noise term
+//!     where wider (a broken flute's next pass loses from its first angles, inside the
+//!     period; an up-milling exit's first period loses at the window's far end, and its
+//!     whole measured past a share with the resultant's noise: seed 8808 normal 14).
+//!     Armed after a record
 //!     out of a steady cut (not transient, nor two of the last `N`; the noise figure
 //!     settled, no alarm latched; the newest revolution as long as the one before, whose
 //!     bins the period's are judged against at the same samples),
@@ -153,7 +158,8 @@
 //!     the trip only while the feed speed holds (a feed hold thins every chip at once).
 //!     The trip latches the output at once (the event keeps that sample); the records
 //!     after it name the cause: a rule that raises on them (no breakage on a tooth that
-//!     collapsed: a tool lost late in the tripped period leaves it partly cut), else after
+//!     collapsed: a tool lost late in the tripped period leaves it partly cut; no lost tool
+//!     on one empty tooth alone: a broken flute's window is as empty), else after
 //!     [`TRIP_NAMED_WITHIN`] records a lost tool if the last two teeth collapsed, a
 //!     breakage otherwise.
 //!   - two teeth in a row fallen below [`GONE_SHARE`] of their force one revolution
@@ -600,8 +606,9 @@ pub struct AlarmState {
     /// that the hand-over stage allows before it arms the trip [N] (`INFINITY`: none to
     /// check).
     trip_quiet_n: f32,
-    /// ... and judged on the whole period at its close too (`Alarms::process_with`).
-    trip_whole: bool,
+    /// ... and the share the whole period is judged against at its close
+    /// (`Alarms::process_with`; `INFINITY`: not judged whole).
+    trip_whole_share: f32,
     /// The exit's loss share behind it, and the feed per tooth [mm] and `R_r` it is for
     /// (`R_r` -1: none valid).
     exit_share: f32,
@@ -674,7 +681,7 @@ impl Default for AlarmState {
             trip_floor_n: f32::INFINITY,
             trip_quiet_n: f32::INFINITY,
             trip_share: TRIP_SHARE,
-            trip_whole: true,
+            trip_whole_share: f32::INFINITY,
             exit_share: 1.0,
             exit_key: (f32::NAN, f32::NAN),
             exit_wide: 0.0,
@@ -919,10 +926,10 @@ impl AlarmState {
         self.trip_share
     }
 
-    /// Whether the armed drop trip judges the whole period at its close too (see
-    /// [`crate::handover::Handover::arm_trip`]).
-    pub fn trip_whole(&self) -> bool {
-        self.trip_whole
+    /// The share of the tooth's force the armed drop trip asks of the whole period at its
+    /// close (`INFINITY`: not judged whole; see [`crate::handover::Handover::arm_trip`]).
+    pub fn trip_whole_share(&self) -> f32 {
+        self.trip_whole_share
     }
 
     /// Where the drop trip is armed in the first revolution after a moved window: the
@@ -1683,8 +1690,15 @@ impl Alarms {
                     // lost 29 % against 0.32). Wider, the next flute's cut reaches into
                     // the window, and the close catches breaks (seeds 14 break 61 and 85
                     // break 108, 4 flutes at `R_r` 1.58).
-                    self.trip_share(st, rec.tc_mm, sigma_r, Some(lost_since))
-                        .map(|share| (share, floor, st.exit_wide > 0.0))
+                    self.trip_share(st, rec.tc_mm, sigma_r, 0.0, Some(lost_since))
+                        .map(|(share, _)| {
+                            let whole = if st.exit_wide > 0.0 {
+                                share
+                            } else {
+                                f32::INFINITY
+                            };
+                            (share, floor, whole)
+                        })
                 } else if fresh
                     || self.no_recent_loss(st, TRIP_QUIET_SIGMAS * TRIP_QUIET_SIGMAS * var_r)
                         && !(st.all_armed(self.armed_fade)
@@ -1714,27 +1728,30 @@ impl Alarms {
                     if fresh {
                         st.trip_quiet_n = TRIP_QUIET_SIGMAS * sigma_r;
                     }
-                    self.trip_share(st, rec.tc_mm, sigma_r, None).map(|share| {
-                        // The next tooth's loss a revolution ago, out of a steady cut: its
-                        // period then is the reference now.
-                        let lost = st.force(2 * n - 1) - st.force(n - 1);
-                        let two_revs = st.armed & self.armed_two_revs == self.armed_two_revs;
-                        let credited = two_revs
-                            && (!st.unflagged).trailing_zeros() as usize >= 2 * n
-                            && lost > EVIDENCE_EACH_SIGMAS * sigma_r;
-                        // Where it gained instead, its reference now stands that high over
-                        // its own level: the floor rises by it (seed 2256 normal 48: a
-                        // tooth 2.3 sigma_R up on the last flat revolution of an exit, then
-                        // the exit's step).
-                        let raised = two_revs && -lost > EVIDENCE_EACH_SIGMAS * sigma_r;
-                        let floor = FIRST_TOOTH_SIGMAS * sigma_r
-                            - if credited || raised { lost } else { 0.0 };
-                        (
-                            share,
-                            crate::fmath::max(floor, EVIDENCE_MIN_SIGMAS * sigma_r),
-                            true,
-                        )
-                    })
+                    // The trip channel's noise on the resultant's scale, for the close.
+                    let sigma_t = libm::sqrtf(trip_var_n2) * f / rec.f2_n;
+                    self.trip_share(st, rec.tc_mm, sigma_r, sigma_t, None)
+                        .map(|(share, whole)| {
+                            // The next tooth's loss a revolution ago, out of a steady cut: its
+                            // period then is the reference now.
+                            let lost = st.force(2 * n - 1) - st.force(n - 1);
+                            let two_revs = st.armed & self.armed_two_revs == self.armed_two_revs;
+                            let credited = two_revs
+                                && (!st.unflagged).trailing_zeros() as usize >= 2 * n
+                                && lost > EVIDENCE_EACH_SIGMAS * sigma_r;
+                            // Where it gained instead, its reference now stands that high over
+                            // its own level: the floor rises by it (seed 2256 normal 48: a
+                            // tooth 2.3 sigma_R up on the last flat revolution of an exit, then
+                            // the exit's step).
+                            let raised = two_revs && -lost > EVIDENCE_EACH_SIGMAS * sigma_r;
+                            let floor = FIRST_TOOTH_SIGMAS * sigma_r
+                                - if credited || raised { lost } else { 0.0 };
+                            (
+                                share,
+                                crate::fmath::max(floor, EVIDENCE_MIN_SIGMAS * sigma_r),
+                                if st.exit_wide > 0.0 { share } else { whole },
+                            )
+                        })
                 } else {
                     None
                 };
@@ -1751,7 +1768,7 @@ impl Alarms {
                         floor
                     };
                     st.trip_share = share;
-                    st.trip_whole = whole;
+                    st.trip_whole_share = whole;
                 }
             }
         }
@@ -1791,7 +1808,16 @@ impl Alarms {
                 .live_since_steady
                 .saturating_add((armed && f >= floor) as u8);
         }
-        if self.cfg.tool_gone.enabled && self.gone_candidate(st, rec, two_dead) {
+        // While a trip waits for its name, one tooth that collapsed is a broken flute's
+        // empty window as well as a lost tool's: the monitor's not-cutting flag (on the
+        // revolution mean) can come before the next flute takes the chip (seed 8800 break
+        // 22: 2 flutes, the heavy one 82 % of the load, its window emptied, the mean 23.9
+        // N against a floor of 24). The naming waits for a second (the output latched
+        // already).
+        if self.cfg.tool_gone.enabled
+            && self.gone_candidate(st, rec, two_dead)
+            && (two_dead || !naming)
+        {
             raise(Cause::ToolGone, f, self.est.force_floor_n);
             st.held = None;
         }
@@ -2062,7 +2088,8 @@ impl Alarms {
         pairs > 0
     }
 
-    /// The drop trip's share for the next period, `None` where it is not armed: what the
+    /// The drop trip's share for the next period and the share its whole period is asked
+    /// at the close, `None` where it is not armed: what the
     /// next period of an exit through a face, its first tooth's loss hidden in the noise,
     /// could lose, that is the exit's loss at a travel of two feeds per tooth past the
     /// arc's far reach ([`crate::geometry::exit_loss_share`], at the last valid `R_r`;
@@ -2075,7 +2102,9 @@ impl Alarms {
     /// tells, not a feed at most; none after a strong
     /// pair, which does not check it), plus `TRIP_QUIET_SIGMAS sigma_R` of the next
     /// tooth's force one revolution earlier; at least [`TRIP_SHARE`], at most
-    /// [`TRIP_MAX_SHARE`]. After a hand-over's `evidence`, at least [`EVIDENCE_SHARE`] and
+    /// [`TRIP_MAX_SHARE`]; at the close, the wider of that and `TRIP_QUIET_SIGMAS sigma_t`
+    /// (the trip channel's noise on the resultant's scale). After a hand-over's
+    /// `evidence`, at least [`EVIDENCE_SHARE`] and
     /// no noise term: the pair is already rare by noise (about once in 10 000 teeth), and
     /// the exit's loss over the period is its mean over the travel, under the loss at the
     /// period's end (seeds 417, 489, 537 and 627, normal cases: a pair in the noise, then
@@ -2089,8 +2118,9 @@ impl Alarms {
         st: &mut AlarmState,
         tc_mm: f32,
         sigma_r: f32,
+        sigma_t: f32,
         evidence: Option<usize>,
-    ) -> Option<f32> {
+    ) -> Option<(f32, f32)> {
         // (-1: no valid `R_r`, the worst one.)
         let rr = st.held.map_or(-1.0, |(rr, _)| rr);
         let (key_tc, key_rr) = st.exit_key;
@@ -2114,17 +2144,18 @@ impl Alarms {
             let wide = (span - self.est.tool.tooth_pitch_rad()) / span;
             st.exit_wide = crate::fmath::min(crate::fmath::max(wide, 0.0), 1.0);
         }
-        let (least, noise, checked, under_way) = if evidence.is_some() {
+        let (least, noise, noise_t, checked, under_way) = if evidence.is_some() {
             let lost = (st.force(self.n) - st.force(0)) / sigma_r;
             let under_way = !st.handed_strong && lost > EVIDENCE_KEPT_SIGMAS;
             let checked =
                 (!st.handed_strong).then_some(crate::fmath::max(EVIDENCE_KEPT_SIGMAS, lost));
-            (EVIDENCE_SHARE, 0.0, checked, under_way)
+            (EVIDENCE_SHARE, 0.0, 0.0, checked, under_way)
         } else {
             let before = st.force(self.n - 1);
             (
                 TRIP_SHARE,
                 TRIP_QUIET_SIGMAS * sigma_r / before,
+                TRIP_QUIET_SIGMAS * sigma_t / before,
                 Some(TRIP_QUIET_SIGMAS),
                 false,
             )
@@ -2175,7 +2206,8 @@ impl Alarms {
             };
         }
         let need = crate::fmath::max(exit + noise, least);
-        (need <= TRIP_MAX_SHARE).then_some(need)
+        let whole = crate::fmath::max(exit + crate::fmath::max(noise, noise_t), least);
+        (need <= TRIP_MAX_SHARE).then_some((need, whole))
     }
 
     /// Whether the tooth before the newest lost force from one revolution earlier and the
@@ -3077,9 +3109,12 @@ mod tests {
             assert!(st.trip_floor_n() < plain.trip_floor_n(), "R_r {rr}");
             assert!(st.trip_share() >= EVIDENCE_SHARE, "R_r {rr}");
             assert_eq!(span(rr, &st) > tool.tooth_pitch_rad(), wide, "R_r {rr}");
-            assert_eq!(st.trip_whole(), wide, "R_r {rr}");
+            assert_eq!(st.trip_whole_share() < f32::INFINITY, wide, "R_r {rr}");
             assert!(plain.trip_floor_n().is_finite(), "R_r {rr}: armed plain");
-            assert!(plain.trip_whole(), "R_r {rr}: plain");
+            assert!(
+                plain.trip_whole_share() >= plain.trip_share(),
+                "R_r {rr}: plain"
+            );
         }
     }
 
@@ -4222,7 +4257,8 @@ mod tests {
     }
 
     /// A trip latches the output at once; the records after it name the cause: the next
-    /// flute's gain a breakage, every tooth empty a lost tool.
+    /// flute's gain a breakage (one empty window alone is not a lost tool), every tooth
+    /// empty a lost tool.
     #[test]
     fn a_drop_trip_latches_at_once_and_is_named_by_the_records_after_it() {
         let broken = [0.0, -100.0, 100.0, 0.0];
@@ -4232,6 +4268,12 @@ mod tests {
         let (i, cause) = event.unwrap();
         assert_eq!(cause, Cause::Breakage);
         assert!((161..=163).contains(&i), "{i}");
+        // The flute's window empty and flagged not cutting (the monitor's test on the
+        // revolution mean, under its floor before the next flute takes the chip: seed 8800
+        // break 22): a breakage still, not a lost tool.
+        let (latched, event) = trip_then(&f, 161, 161);
+        assert!(latched);
+        assert_eq!(event.map(|e| e.1), Some(Cause::Breakage));
         // The tool gone from tooth 1 of the revolution: the tripped period partly cut.
         let mut f = forces(3.0, 40, &[0.0; 8]);
         f[161] *= 0.5;

@@ -175,8 +175,9 @@ pub struct HandoverState {
     deficit: f32,
     trip: f32,
     tripped: bool,
-    /// The armed trip judges the whole period at its close too (`Handover::arm_trip`).
-    whole: bool,
+    /// The armed trip's limit on the whole period at its close, in the same sums
+    /// (`INFINITY`: not judged whole; `Handover::arm_trip`).
+    whole_trip: f32,
     /// The loss when it tripped and the limit it passed (the period's close may have
     /// disarmed it since); a bin's samples (the open period's bins are the closed
     /// period's length over `BINS`); the open bin's change so far (its samples less the
@@ -289,7 +290,7 @@ impl Default for HandoverState {
             deficit: 0.0,
             trip: f32::INFINITY,
             tripped: false,
-            whole: false,
+            whole_trip: f32::INFINITY,
             hit: f32::INFINITY,
             lost: 0.0,
             bin_len: 1.0,
@@ -527,9 +528,10 @@ impl Handover {
     /// changes above `-sqrt(j) quiet_n` (the alarm stage's test on its records, which
     /// compare nothing across the move: an exit's teeth all lose, the newest most).
     ///
-    /// `whole`: the whole period is judged at its close too (with the window's boundary
-    /// placed, [`Handover::whole_at_close`]); the alarm stage leaves it out after a
-    /// hand-over's evidence on a cut within a pitch.
+    /// `whole_share`: the whole period is judged at its close too, against that share
+    /// (and `floor_n`), with the window's boundary placed ([`Handover::whole_at_close`]);
+    /// `INFINITY`: not judged whole. The alarm stage asks more there than inside the
+    /// period, or leaves it out, on a cut within a pitch.
     #[inline(never)]
     #[allow(clippy::too_many_arguments)]
     pub fn arm_trip(
@@ -540,9 +542,9 @@ impl Handover {
         share: f32,
         floor_n: f32,
         quiet_n: f32,
-        whole: bool,
+        whole_share: f32,
     ) {
-        st.whole = whole;
+        st.whole_trip = f32::INFINITY;
         st.trip = f32::INFINITY;
         st.run_limit = f32::NEG_INFINITY;
         if !self.on || st.per_unit_n <= 0.0 || st.filled & (1u8.wrapping_shl(st.open as u32)) == 0 {
@@ -555,9 +557,13 @@ impl Handover {
         // In sums over the bins: the open tooth's last period above the signal's level
         // with nothing cut (the closed period's mean less its tangential force).
         let content = sum(st.open) - sum(closed) + ft_n * BINS as f32 / st.per_unit_n;
-        let limit = fmath::max(share * content, floor_n * BINS as f32 / st.per_unit_n);
+        let floor = floor_n * BINS as f32 / st.per_unit_n;
+        let limit = fmath::max(share * content, floor);
         if limit.is_finite() && limit > 0.0 {
             st.trip = limit;
+            if whole_share < f32::INFINITY {
+                st.whole_trip = fmath::max(fmath::max(whole_share * content, floor), limit);
+            }
         }
         Self::bin_limit(st);
     }
@@ -606,6 +612,7 @@ impl Handover {
         let scale = st.per_unit_n * (1.0 / BINS as f32);
         let out = (st.lost * scale, st.hit * scale);
         st.trip = f32::INFINITY;
+        st.whole_trip = f32::INFINITY;
         st.run_limit = f32::NEG_INFINITY;
         Some(out)
     }
@@ -663,7 +670,7 @@ impl Handover {
                 // (Only a period that reached its last bin: one cut short by a glitch
                 // holds its last complete bin's mean in the bins it never reached.)
                 if self.whole_at_close
-                    && st.whole
+                    && st.whole_trip < f32::INFINITY
                     && st.open == tooth
                     && st.fold as usize == BINS - 1
                 {
@@ -678,10 +685,12 @@ impl Handover {
         st.fold = 0;
         st.deficit = 0.0;
         // (Not `>=`: a NaN loss does not trip.)
-        if !st.tripped && whole_lost > st.trip {
+        if !st.tripped && whole_lost > st.whole_trip {
             Self::tripped(st, whole_lost);
+            st.hit = st.whole_trip;
         }
         st.trip = f32::INFINITY;
+        st.whole_trip = f32::INFINITY;
         Self::open_bin(st, 0);
     }
 
@@ -998,12 +1007,12 @@ mod tests {
         trip: Option<f32>,
         from: usize,
     ) -> (Vec<(f32, f32)>, Option<(usize, usize, f32)>) {
-        feed_off(h, periods, &[], &[], unusable, trip, from, true)
+        feed_off(h, periods, &[], &[], unusable, trip, from, trip)
     }
 
     /// [`feed_armed_from`], period `k`'s boundary `offs[k]` samples off the pulses'
     /// tracked times, and those `lags[k]` samples after its pulse (none listed: 0); the trip
-    /// armed to judge the whole period at its close too where `whole`.
+    /// armed to judge the whole period at its close too, at the share `whole`.
     #[allow(clippy::type_complexity, clippy::too_many_arguments)]
     fn feed_off(
         h: Handover,
@@ -1013,7 +1022,7 @@ mod tests {
         unusable: &[usize],
         trip: Option<f32>,
         from: usize,
-        whole: bool,
+        whole: Option<f32>,
     ) -> (Vec<(f32, f32)>, Option<(usize, usize, f32)>) {
         let mut st = HandoverState::default();
         let mut out = Vec::new();
@@ -1039,6 +1048,7 @@ mod tests {
                     if let (Some(share), true) = (trip, k > from) {
                         let prev = &periods[k - 1];
                         let ft = prev.iter().sum::<f32>() / prev.len() as f32;
+                        let whole = whole.unwrap_or(f32::INFINITY);
                         h.arm_trip(&mut st, t, ft, share, 0.0, f32::INFINITY, whole);
                     }
                 }
@@ -1249,8 +1259,8 @@ mod tests {
     /// last bin holds the start of the next flute's cut (arcs wider than a pitch): a
     /// period that loses that bin alone (10 units, a tenth of the tooth) trips at its
     /// close where the limit is under it, not where it is over it, nor with the window at
-    /// the pulse or the trip armed without the whole period; a period cut short before its
-    /// last bin is not judged.
+    /// the pulse or the trip armed without the whole period (or with a share of its own
+    /// over the loss); a period cut short before its last bin is not judged.
     #[test]
     fn the_whole_period_is_judged_at_its_close() {
         let tail = |i: usize| if i >= LEN - LEN / BINS { 10.0 } else { 0.0 };
@@ -1277,8 +1287,10 @@ mod tests {
         let at_pulse = Handover::new(N, true, false, true);
         assert_eq!(feed_with(at_pulse, &p, &[], Some(under)).1, None);
         let h = Handover::new(N, true, true, true);
+        assert_eq!(feed_off(h, &p, &[], &[], &[], Some(under), 0, None).1, None);
+        // Nor where the whole period is asked a share over its loss, the same inside.
         assert_eq!(
-            feed_off(h, &p, &[], &[], &[], Some(under), 0, false).1,
+            feed_off(h, &p, &[], &[], &[], Some(under), 0, Some(over)).1,
             None
         );
         // A period cut short by a glitch in the gap, before its last two bins (the monitor
@@ -1412,7 +1424,7 @@ mod tests {
                         h.measure(&mut st, t as u8, period, 1.0);
                         let ft = x[w[0] - len..w[0]].iter().sum::<f32>() / len as f32;
                         let q = if p > moved { quiet } else { f32::INFINITY };
-                        h.arm_trip(&mut st, t as u8, ft, share, 0.0, q, true);
+                        h.arm_trip(&mut st, t as u8, ft, share, 0.0, q, share);
                     }
                     None => {
                         let bin = (((pos as u64 * step as u64) >> 16) as usize).min(BINS - 1);
@@ -1774,17 +1786,19 @@ mod tests {
             "the swing {swing} would not trip a limit of {share} anyway"
         );
         let h = Handover::new(N, true, true, true);
-        assert!(feed_off(h, &p, &[], &[], &[], Some(share), from, true)
-            .1
-            .is_some());
+        assert!(
+            feed_off(h, &p, &[], &[], &[], Some(share), from, Some(share))
+                .1
+                .is_some()
+        );
         assert_eq!(
-            feed_off(h, &p, &offs, &[], &[], Some(share), from, true).1,
+            feed_off(h, &p, &offs, &[], &[], Some(share), from, Some(share)).1,
             None
         );
         // Flute 1 breaks: from period `k` on it cuts nothing; its next pass trips.
         let k = (from / n + 3) * n + 1;
         break_flute(&mut p, k, BASE, &mut noise);
-        let (period, _, _) = feed_off(h, &p, &offs, &[], &[], Some(share), from, true)
+        let (period, _, _) = feed_off(h, &p, &offs, &[], &[], Some(share), from, Some(share))
             .1
             .unwrap();
         assert_eq!(period, k);
@@ -1858,16 +1872,16 @@ mod tests {
             "the swing, {over} of the limit, would not trip anyway"
         );
         let h = Handover::new(N, true, true, true);
-        let untold = feed_off(h, &p, &[], &[], &[], Some(share), from, true);
+        let untold = feed_off(h, &p, &[], &[], &[], Some(share), from, Some(share));
         assert!(untold.1.is_some());
         assert_eq!(
-            feed_off(h, &p, &[], &told, &[], Some(share), from, true).1,
+            feed_off(h, &p, &[], &told, &[], Some(share), from, Some(share)).1,
             None
         );
         // Flute 1 breaks: from period `k` on it cuts nothing; its next pass trips.
         let k = held + n + 1;
         break_flute(&mut p, k, BASE, &mut noise);
-        let (period, _, _) = feed_off(h, &p, &[], &told, &[], Some(share), from, true)
+        let (period, _, _) = feed_off(h, &p, &[], &told, &[], Some(share), from, Some(share))
             .1
             .unwrap();
         assert_eq!(period, k);

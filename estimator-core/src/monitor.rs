@@ -711,7 +711,7 @@ impl Monitor {
         share: f32,
         floor_n: f32,
         quiet_n: f32,
-        whole: bool,
+        whole_share: f32,
     ) {
         self.handover.arm_trip(
             &mut st.hand,
@@ -720,7 +720,7 @@ impl Monitor {
             share,
             floor_n,
             quiet_n,
-            whole,
+            whole_share,
         );
     }
 

@@ -155,7 +155,7 @@ impl Pipeline {
             st.alarms.trip_share(),
             st.alarms.trip_floor_n(),
             st.alarms.trip_quiet_n(),
-            st.alarms.trip_whole(),
+            st.alarms.trip_whole_share(),
         );
         (rec, out)
     }

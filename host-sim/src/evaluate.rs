@@ -2074,4 +2074,40 @@ mod held_out_tests {
         let late = late_over_noise(40, 89, 32);
         assert!(late.len() <= 1, "{late:#?}");
     }
+
+    /// An up-milling exit's first period on a cut within a pitch (seed 8808, normal case
+    /// 14: 2 flutes, `R_r` 1.37): the light tooth lost 48 % as the arc's far reach, the
+    /// thickest chip, left the work, all of it at the window's far end. The trip's share,
+    /// 0.58, is the exit's 0.49 and 3 sigma_R of the resultant, but it measures the
+    /// tangential channel, whose noise was 12 % of its force: the whole period at its close
+    /// measured 58.6 % and tripped. The close asks the exit's share with that channel's
+    /// noise (inside the period a broken flute loses from its first angles and is judged
+    /// at the resultant's). Found at seeds 8769-8864, after the rules had been set.
+    #[test]
+    fn an_exits_first_period_judged_whole_allows_for_the_trip_channels_noise() {
+        no_alarm_over_noise(Kind::Normal, 14, 8808, 8);
+    }
+
+    /// An entry into a face that takes seconds (seed 38, taught case 1: 3 flutes, up
+    /// milling, `R_r` 1.35): the window's profile was reviewed 0.2 s in, its arc a third of
+    /// the period, and the boundary went to the middle of the quiet stretch; the arc went
+    /// on widening over it, and at 280 N the boundary stood on the cut's steep edge, where
+    /// the pulses' jitter moved force from one window into the next: a hand-over raised in
+    /// a normal cut. The profile is reviewed again once the cut has grown
+    /// (`window::REGROWN`). Found at seeds 1-96 after the profile's 1-2-1 smoothing.
+    #[test]
+    fn a_boundary_placed_early_in_a_long_entry_is_reviewed_as_the_cut_grows() {
+        no_alarm_over_noise(Kind::Taught, 1, 38, 8);
+    }
+
+    /// The heavy flute of a 2-flute tool broken (seed 8800, break case 22: the flutes 82
+    /// and 18 % of the load): the window placed on its whole cut emptied, the revolution's
+    /// mean fell under the not-cutting floor (23.9 N against 24) before the light flute
+    /// took the chip, and the tool-gone rule named the drop trip a lost tool. One empty
+    /// tooth is left to the trip's naming (the window was placed there by the review as
+    /// the entry's cut grew, `window::REGROWN`).
+    #[test]
+    fn a_heavy_flutes_empty_window_is_a_breakage_not_a_lost_tool() {
+        caught_with_no_false_alarm(Kind::Break, 22, 8800, 8);
+    }
 }

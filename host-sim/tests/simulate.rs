@@ -968,9 +968,11 @@ da_mm = 8.0
         cfg.clip = host_sim::sim::clip_levels(&sc).map(|c| c as f32);
         let mon = cfg.build().unwrap();
         let mut st = MonitorState::default();
-        // (The first stretch from 3.3 s: at 2.78 s the monitor moves its tooth windows to
-        // where no flute cuts, and the filter settles again for four revolutions.)
-        let steady = [(3.3, 4.0), (6.8, 7.5), (9.3, 10.0), (11.0, 11.5)];
+        // (The first stretch from 3.3 s: at 2.38 s the monitor moves its tooth windows to
+        // where no flute cuts, and the filter settles again for four revolutions; the
+        // second from 6.9 s: the radial ramp doubled the force, and at 6.45 s the grown
+        // cut's profile moved them again, `window::REGROWN`.)
+        let steady = [(3.3, 4.0), (6.9, 7.5), (9.3, 10.0), (11.0, 11.5)];
         let mut valid = [0; 4];
         simulate(&sc, |r| {
             if let Some(rec) = mon.process(&mut st, &r.to_sample()) {
