@@ -1681,24 +1681,8 @@ impl Alarms {
                         lost += 1;
                     }
                     let lost_since = lost.saturating_sub(1);
-                    // Judged inside the period alone where the cut's span is within a
-                    // pitch: the window holds the whole cut, and a broken flute's next
-                    // pass loses from its first angles, past the share well before the
-                    // period ends; a loss that passes it only whole, at the close, lies
-                    // at the cut's far end, an up-milling exit's first period (seed 5435
-                    // normal 51: 2 flutes, a noise pair, then the exit's first period
-                    // lost 29 % against 0.32). Wider, the next flute's cut reaches into
-                    // the window, and the close catches breaks (seeds 14 break 61 and 85
-                    // break 108, 4 flutes at `R_r` 1.58).
                     self.trip_share(st, rec.tc_mm, sigma_r, 0.0, Some(lost_since))
-                        .map(|(share, _)| {
-                            let whole = if st.exit_wide > 0.0 {
-                                share
-                            } else {
-                                f32::INFINITY
-                            };
-                            (share, floor, whole)
-                        })
+                        .map(|(share, whole)| (share, floor, whole))
                 } else if fresh
                     || self.no_recent_loss(st, TRIP_QUIET_SIGMAS * TRIP_QUIET_SIGMAS * var_r)
                         && !(st.all_armed(self.armed_fade)
@@ -1749,7 +1733,7 @@ impl Alarms {
                             (
                                 share,
                                 crate::fmath::max(floor, EVIDENCE_MIN_SIGMAS * sigma_r),
-                                if st.exit_wide > 0.0 { share } else { whole },
+                                whole,
                             )
                         })
                 } else {
@@ -2102,8 +2086,10 @@ impl Alarms {
     /// tells, not a feed at most; none after a strong
     /// pair, which does not check it), plus `TRIP_QUIET_SIGMAS sigma_R` of the next
     /// tooth's force one revolution earlier; at least [`TRIP_SHARE`], at most
-    /// [`TRIP_MAX_SHARE`]; at the close, the wider of that and `TRIP_QUIET_SIGMAS sigma_t`
-    /// (the trip channel's noise on the resultant's scale). After a hand-over's
+    /// [`TRIP_MAX_SHARE`]. At the close (`f32::INFINITY`: not judged whole): the same
+    /// share on a cut wider than a pitch (`exit_wide`); within one, the plain trip asks
+    /// the wider of that and `TRIP_QUIET_SIGMAS sigma_t` (the trip channel's noise on the
+    /// resultant's scale) and the evidence trip is not judged whole. After a hand-over's
     /// `evidence`, at least [`EVIDENCE_SHARE`] and
     /// no noise term: the pair is already rare by noise (about once in 10 000 teeth), and
     /// the exit's loss over the period is its mean over the travel, under the loss at the
@@ -2206,7 +2192,22 @@ impl Alarms {
             };
         }
         let need = crate::fmath::max(exit + noise, least);
-        let whole = crate::fmath::max(exit + crate::fmath::max(noise, noise_t), least);
+        // Within a pitch the window holds the whole cut, and a broken flute's next pass
+        // loses from its first angles, past the share well before the period ends; a loss
+        // that passes it only whole, at the close, lies at the cut's far end, an
+        // up-milling exit's first period. After evidence that is not judged at all (seed
+        // 5435 normal 51: 2 flutes, a noise pair, then the exit's first period lost 29 %
+        // against 0.32); the plain trip asks it past the trip channel's noise too (seed
+        // 8808 normal 14). Wider, the next flute's cut reaches into the window, and the
+        // close catches breaks at the share (seeds 14 break 61 and 85 break 108, 4 flutes
+        // at `R_r` 1.58).
+        let whole = if st.exit_wide > 0.0 {
+            need
+        } else if evidence.is_some() {
+            f32::INFINITY
+        } else {
+            crate::fmath::max(exit + crate::fmath::max(noise, noise_t), least)
+        };
         (need <= TRIP_MAX_SHARE).then_some((need, whole))
     }
 
