@@ -815,10 +815,12 @@ impl Monitor {
         };
         let (status, e) = self.judge(st, p.status, &means, probe);
         let (handover_z, handover_n) = self.handover(st, p.tooth, status, per_unit_n);
-        self.boundary.review(&mut st.win, status, |[a, b, c]| {
-            let (fx, f2, _, _) = self.forces([a, b, v0, v1, c], rpm);
-            fx * fx + f2 * f2
-        });
+        let force2_n2 = fx_n * fx_n + f2_n * f2_n;
+        self.boundary
+            .review(&mut st.win, status, force2_n2, |[a, b, c]| {
+                let (fx, f2, _, _) = self.forces([a, b, v0, v1, c], rpm);
+                fx * fx + f2 * f2
+            });
         // The immersion fields are 0 unless the record is valid.
         let valid = status.is_valid() && e.method != Method::None;
         let r = self.cfg.estimator.tool.radius_mm;
