@@ -21,7 +21,9 @@
 //!    exit and engagement steps show as a change between the last revolution and the one
 //!    before (`TRANSIENT`), feed or speed changes as a change of `t_c` (`FEED_CHANGE`);
 //!    either, like an invalid period or an air cut, restarts a settling count that keeps
-//!    the immersion flagged until the window holds only data from after it.
+//!    the immersion flagged until the window holds only data from after it. (Not a moved
+//!    tooth window's odd period: it stands in the window as its teeth a revolution
+//!    earlier, and a steady cut's revolution holds the same force at any boundary.)
 
 use crate::drive::{FeedDrive, SpindleModel};
 use crate::estimator::{Estimate, Estimator, EstimatorConfig, Measured, Method};
@@ -894,7 +896,16 @@ impl Monitor {
         let usable = status.is_valid() && t.all_finite;
         if !usable {
             status.set_if(status.is_valid(), Status::NON_FINITE);
-            st.settle = self.settle_teeth();
+            // A moved window's odd period, wrong in its length alone, stands in the ring
+            // as its teeth a revolution earlier (`moved`): the filter's revolutions stay
+            // whole (a steady cut's revolution holds the same force at any boundary), and
+            // the estimates go on.
+            let recut = status == Status(Status::WINDOW_MOVED.0 | Status::PERIOD_INVALID.0)
+                && t.all_finite
+                && st.len >= n;
+            if !recut {
+                st.settle = self.settle_teeth();
+            }
             return (status, none);
         }
         // Air cut or stopped feed: nothing to estimate, and the cut that follows starts

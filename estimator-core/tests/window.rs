@@ -108,6 +108,8 @@ fn the_windows_move_to_where_no_flute_cuts() {
         .map(|(k, _)| k)
         .collect();
     assert_eq!(moved.len(), 1, "moves once: {moved:?}");
+    // The cut had settled before the move.
+    assert!(!recs[moved[0] - 1].status.contains(Status::SETTLING));
     // Before the move every average mixes two flutes' cuts; from the period after it (the
     // period of the move is of odd length; the next one is judged against the length
     // before it, and is good), each holds one flute's whole cut, the flutes in turn, and
@@ -145,6 +147,17 @@ fn the_windows_move_to_where_no_flute_cuts() {
     assert!(
         transient.len() <= 1,
         "transient after the move: {transient:?}"
+    );
+    // Nor does the move restart the filter's settling: the cut was steady before it, and
+    // the records after it are not flagged settling up to that transient.
+    let until = transient.first().copied().unwrap_or(after.len());
+    assert!(until > 0);
+    assert!(
+        after[..until]
+            .iter()
+            .all(|r| !r.status.contains(Status::SETTLING)),
+        "{:?}",
+        after[..until].iter().map(|r| r.status).collect::<Vec<_>>()
     );
 }
 
