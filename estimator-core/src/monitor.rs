@@ -629,13 +629,21 @@ impl Monitor {
         // test would flag the revolutions after a move as a change of the cut. (A mean that
         // holds teeth of both alignments is still off by the runout's share of the
         // boundary's shift, less.) Only where its length is all that is wrong with it.
-        if p.status == Status(Status::WINDOW_MOVED.0 | Status::PERIOD_INVALID.0) && st.len >= n {
+        if Self::stands_in(st, p.status, n) {
             for _ in 0..teeth {
                 let e = st.back(n - 1);
                 self.push(st, e, n);
             }
         }
         len
+    }
+
+    /// Whether a closed period of `status` is a moved window's odd period that `moved`
+    /// stands in for with its teeth a revolution earlier: flagged for its length alone,
+    /// with a revolution in the ring to copy.
+    #[inline(always)]
+    fn stands_in(st: &MonitorState, status: Status, n: usize) -> bool {
+        status == Status(Status::WINDOW_MOVED.0 | Status::PERIOD_INVALID.0) && st.len >= n
     }
 
     /// Feed force and second force [N] from a period's raw channel means (feed X, feed Y,
@@ -900,10 +908,7 @@ impl Monitor {
             // as its teeth a revolution earlier (`moved`): the filter's revolutions stay
             // whole (a steady cut's revolution holds the same force at any boundary), and
             // the estimates go on.
-            let recut = status == Status(Status::WINDOW_MOVED.0 | Status::PERIOD_INVALID.0)
-                && t.all_finite
-                && st.len >= n;
-            if !recut {
+            if !(Self::stands_in(st, status, n) && t.all_finite) {
                 st.settle = self.settle_teeth();
             }
             return (status, none);
