@@ -1087,6 +1087,16 @@ impl Alarms {
         self.signal(f.fx_n, f.ft_n).abs()
     }
 
+    /// Eq. 7's watched force at the `held` engagement (the last valid estimate's), or
+    /// `fallback` (the measured force) without one: the force `k F_expected` scales.
+    #[inline(always)]
+    fn expected_signal(&self, held: Option<(f32, f32)>, tc_mm: f32, fallback: f32) -> f32 {
+        match held {
+            Some((rr, ra)) => self.model_signal(rr, ra, tc_mm),
+            None => fallback,
+        }
+    }
+
     /// Feeds one record.
     #[inline(always)]
     pub fn process(&self, st: &mut AlarmState, rec: &ToothRecord) -> AlarmOutput {
@@ -1322,10 +1332,7 @@ impl Alarms {
                     };
                     #[allow(clippy::neg_cmp_op_on_partial_ord)]
                     if !(e.abs() <= lo + bit_common) {
-                        let expected = match st.held {
-                            Some((rr, ra)) => self.model_signal(rr, ra, rec.tc_mm),
-                            None => measured,
-                        };
+                        let expected = self.expected_signal(st.held, rec.tc_mm, measured);
                         let base = crate::fmath::max(k * expected, floor);
                         let threshold = base + common;
                         if e.abs() > base + bit_common {
@@ -1513,10 +1520,7 @@ impl Alarms {
                     && self.same_speed(st, 2 * n, 2)
                     && usize::from(lag_quiet) > n.max(2)
                 {
-                    let expected = match st.held {
-                        Some((rr, ra)) => self.model_signal(rr, ra, rec.tc_mm),
-                        None => measured,
-                    };
+                    let expected = self.expected_signal(st.held, rec.tc_mm, measured);
                     let t = HANDOVER_SHARE * k * expected;
                     if rec.handover_n > t {
                         raise(Cause::Breakage, rec.handover_n, t);
@@ -2249,10 +2253,7 @@ impl Alarms {
         if !(gain > each && loss > each && gain + loss > PAIR_RAISE_SIGMAS * sigma_r) {
             return None;
         }
-        let expected = match st.held {
-            Some((rr, ra)) => self.model_signal(rr, ra, rec.tc_mm),
-            None => measured,
-        };
+        let expected = self.expected_signal(st.held, rec.tc_mm, measured);
         let t = crate::fmath::max(
             self.cfg.breakage.threshold_rel * expected,
             PAIR_RAISE_SIGMAS * sigma_r,
@@ -2356,10 +2357,7 @@ impl Alarms {
             st.handed_recut = true;
             // As `E` three times past its threshold it raises: the pair's change is the
             // first difference's, the gain alone after the odd period is `R`'s (its noise).
-            let expected = match st.held {
-                Some((rr, ra)) => self.model_signal(rr, ra, rec.tc_mm),
-                None => level,
-            };
+            let expected = self.expected_signal(st.held, rec.tc_mm, level);
             let var_e = if odd { var_r } else { 2.0 * var_r };
             let floor = E_SIGMAS * libm::sqrtf(var_e);
             let threshold = crate::fmath::max(self.cfg.breakage.threshold_rel * expected, floor);
@@ -2527,10 +2525,7 @@ impl Alarms {
             return None;
         }
         let floor_r = R_SIGMAS * libm::sqrtf(0.5 * e_var / span as f32);
-        let expected = match st.held {
-            Some((rr, ra)) => self.model_signal(rr, ra, tc_mm),
-            None => measured,
-        };
+        let expected = self.expected_signal(st.held, tc_mm, measured);
         let t = crate::fmath::max(crate::fmath::max(k * expected, floor_r), screen) + widen;
         // (Over the means, every revolution at the newest's speed: after a speed change the
         // current loop's lag keeps moving force between the teeth for revolutions, as the
