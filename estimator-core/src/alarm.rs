@@ -1651,7 +1651,7 @@ impl Alarms {
                 // share then covers an exit that took the newest tooth's loss.)
                 let kept = st.handed_strong
                     || st.force(0) - st.force(n) >= -EVIDENCE_KEPT_SIGMAS * sigma_r
-                    || n >= 3 && handed_next && st.exit_wide > 0.0;
+                    || handed_next && self.spans_windows(st);
                 let pending = before_handed || handed_next;
                 // (The newest revolution as long as the one before: in a speed ramp the
                 // current loop's lag, a time, moves force across the windows' boundaries,
@@ -2076,6 +2076,14 @@ impl Alarms {
         }
     }
 
+    /// The cut spans more than a pitch (`exit_wide`, from the last valid estimate) with 3
+    /// flutes or more: a flute's cut begins in the window before its own, and a loss there
+    /// may be a broken flute's next pass rather than an exit's first tooth.
+    #[inline(always)]
+    fn spans_windows(&self, st: &AlarmState) -> bool {
+        self.n >= 3 && st.exit_wide > 0.0
+    }
+
     /// Whether no run of the newest teeth lost force from one revolution earlier: every
     /// sum `S_j` of `R_k = F_k - F_{k+N}` over the newest `j <= N` teeth above
     /// `-sqrt(j var)` (`var`: the bound's square for one tooth). An exit's teeth all lose,
@@ -2089,7 +2097,7 @@ impl Alarms {
     /// then 54-57 %, past the share of the exit the second loss would show.
     #[inline(never)]
     fn no_recent_loss(&self, st: &AlarmState, var: f32) -> bool {
-        let skip = (self.n >= 3 && st.exit_wide > 0.0 && st.all_armed(self.armed_e)) as usize;
+        let skip = (self.spans_windows(st) && st.all_armed(self.armed_e)) as usize;
         // Newest teeth armed in a row, less a revolution: those that have a partner.
         let run = (!st.armed).trailing_zeros() as usize;
         let pairs = run.saturating_sub(self.n).min(self.n).saturating_sub(skip);
