@@ -151,7 +151,8 @@
 //!     tooth's is armed at 0.3 and 4 sigma_R too (3 flutes or more): where arcs are wider
 //!     than a pitch no boundary falls between cuts, the broken flute's cut begins in the
 //!     window before the one that lost most, and so does its next pass, and the loss seen
-//!     there is the newest tooth's loss that a strong pair lets pass. In the revolution
+//!     there is the newest tooth's loss that a strong pair lets pass (where no estimate
+//!     tells the span; where one does, the wide cut's rule). In the revolution
 //!     after a moved window, where the records' history crosses the move, the pair is
 //!     taken from the hand-over stage's re-cut profiles (each tooth's first period since
 //!     the move against its profile): the loss and the gain as above, or, after the odd
@@ -1066,7 +1067,10 @@ impl Alarms {
         st.p = p;
     }
 
-    /// Per-tooth force watched by the breakage detector.
+    /// Per-tooth force watched by the breakage detector. (Out of line, as are
+    /// `expected_signal`, `decision_var` and `gone_candidate`: inlined at their calls the
+    /// four cost the board 400 B of flash, out of line about 50 instructions a record.)
+    #[inline(never)]
     fn signal(&self, fx: f32, f2: f32) -> f32 {
         match self.cfg.breakage.signal {
             BreakageSignal::Resultant => crate::fmath::hypot(fx, f2),
@@ -1093,7 +1097,7 @@ impl Alarms {
 
     /// Eq. 7's watched force at the `held` engagement (the last valid estimate's), or
     /// `fallback` (the measured force) without one: the force `k F_expected` scales.
-    #[inline(always)]
+    #[inline(never)]
     fn expected_signal(&self, held: Option<(f32, f32)>, tc_mm: f32, fallback: f32) -> f32 {
         match held {
             Some((rr, ra)) => self.model_signal(rr, ra, tc_mm),
@@ -1642,14 +1646,18 @@ impl Alarms {
                 let before_handed = n >= 3 && st.handed == Some(((next + 1) % n) as u8);
                 let handed_next = st.handed == Some(next as u8);
                 // (After the gain, the newest tooth must not have lost: an exit's
-                // first tooth right after a noise pair that passed as evidence. A strong
-                // pair is no noise an exit could follow, and the newest tooth's loss may
-                // be the broken flute's cut where it begins, in the window before. So it
-                // is where the cut spans more than a pitch (known from an estimate) and the
-                // newest window is the one before the handed tooth's: seed 2352 break 45,
-                // 4 flutes, `R_r` 1.41, that window lost 25 % and the handed one 59 %; the
-                // share then covers an exit that took the newest tooth's loss.)
-                let kept = st.handed_strong
+                // first tooth right after a noise pair that passed as evidence. The
+                // newest tooth's loss may be the broken flute's cut where it begins, in the
+                // window before: where the cut spans more than a pitch (known from an
+                // estimate) and the newest window is the one before the handed tooth's (seed
+                // 2352 break 45, 4 flutes, `R_r` 1.41, that window lost 25 % and the handed
+                // one 59 %; the share then covers an exit that took the newest tooth's
+                // loss), and after a strong pair where no estimate tells the span (seeds 20
+                // break 0 and 69 break 57). Not after a strong pair on an arc known to lie
+                // within a pitch: seed 9859 normal 9, 4 flutes at `R_r` 0.61, a pair of 6.1
+                // sigma_R by noise, then an exit's first teeth; the newest lost 3 sigma_R
+                // and the handed tooth's period, armed at 0.3, lost 30 %.)
+                let kept = st.handed_strong && st.held.is_none()
                     || st.force(0) - st.force(n) >= -EVIDENCE_KEPT_SIGMAS * sigma_r
                     || handed_next && self.spans_windows(st);
                 let pending = before_handed || handed_next;
@@ -2131,11 +2139,11 @@ impl Alarms {
     /// tells, not a feed at most; none after a strong
     /// pair, which does not check it), plus `TRIP_QUIET_SIGMAS sigma_R` of the next
     /// tooth's force one revolution earlier; at least [`TRIP_SHARE`], at most
-    /// [`TRIP_MAX_SHARE`]. At the close (`f32::INFINITY`: not judged whole): the same
-    /// share on a cut wider than a pitch (`exit_wide`); within one, the plain trip asks
-    /// the wider of that and `TRIP_QUIET_SIGMAS sigma_t` (the trip channel's noise on the
-    /// resultant's scale) and the evidence trip is not judged whole. After a hand-over's
-    /// `evidence`, at least [`EVIDENCE_SHARE`] and
+    /// [`TRIP_MAX_SHARE`]. At the close (`f32::INFINITY`: not judged whole): the plain
+    /// trip asks its noise term at the wider of `sigma_R` and `sigma_t` (the trip
+    /// channel's noise on the resultant's scale); the evidence trip the same share on a
+    /// cut wider than a pitch (`exit_wide`), and within one it is not judged whole. After
+    /// a hand-over's `evidence`, at least [`EVIDENCE_SHARE`] and
     /// no noise term: the pair is already rare by noise (about once in 10 000 teeth), and
     /// the exit's loss over the period is its mean over the travel, under the loss at the
     /// period's end (seeds 417, 489, 537 and 627, normal cases: a pair in the noise, then
@@ -2254,10 +2262,11 @@ impl Alarms {
         // against 0.32); the plain trip asks it past the trip channel's noise too (seed
         // 8808 normal 14). Wider, the next flute's cut reaches into the window, and the
         // close catches breaks at the share (seeds 14 break 61 and 85 break 108, 4 flutes
-        // at `R_r` 1.58).
-        let whole = if st.exit_wide > 0.0 {
-            need
-        } else if evidence.is_some() {
+        // at `R_r` 1.58), the plain trip's past that channel's noise as well (seed 9690
+        // taught 7: 3 flutes, an exit's first tooth lost 5.5 sigma_R, the next window's
+        // period 0.507 of its force against a reach of 0.41 and 0.5: the trip channel's
+        // sigma 0.033 of it, the resultant's 0.024).
+        let whole = if evidence.is_some() && st.exit_wide <= 0.0 {
             f32::INFINITY
         } else {
             crate::fmath::max(exit + crate::fmath::max(noise, noise_t), least)
@@ -2472,6 +2481,7 @@ impl Alarms {
     /// spread was learned at: part of the noise grows with the force (the encoder jitter
     /// moves a share of it between teeth), and a spread learned early in an entry would
     /// stay behind the force. (Not down: a cut that lightens keeps its sensor noise.)
+    #[inline(never)]
     fn decision_var(&self, st: &AlarmState, measured: f32) -> Option<f32> {
         let m = st.e_count as usize;
         if m < (2 * self.n).max(SETTLED_E_MIN) {
@@ -2758,6 +2768,7 @@ impl Alarms {
     /// in one step to a tenth takes a light cut to the floor with the tool in place, so the
     /// force the feed alone leaves must stand clear of the floor. (Linear in `t_c`: the edge
     /// force keeps the real one above it, so this errs towards no alarm.)
+    #[inline(never)]
     fn gone_candidate(&self, st: &AlarmState, rec: &ToothRecord, two_dead: bool) -> bool {
         // (`F t_c' > 3 floor t_c` for `t_c' = min(t_c now, t_c steady)`: no division.)
         (rec.status.contains(Status::NOT_CUTTING) || two_dead)
@@ -3658,26 +3669,45 @@ mod tests {
         assert_eq!(share, EVIDENCE_SHARE, "{pair} {gain}");
     }
 
-    /// After a pair beyond 6 sigma_R (24 N lost and gained, about 10 sigma_R together: no
-    /// noise an exit could follow), the losing tooth's trip is armed at 0.3 even though
-    /// the newest tooth lost 20 N (about 4 sigma_R): where arcs are wider than a pitch that
-    /// is the broken flute's cut where it begins, in the window before. After a pair of
-    /// 16 N (about 6 sigma_R with the noise) the same loss is an exit's first tooth, and
-    /// the trip is not armed lower.
+    /// After a pair beyond 6 sigma_R (24 N lost and gained, about 10 sigma_R together), the
+    /// newest tooth lost 20 N (about 4 sigma_R). Where no estimate tells the arc's span,
+    /// the losing tooth's trip is still armed lower than the plain trip: on an arc wider
+    /// than a pitch that loss is the broken flute's cut where it begins, in the window
+    /// before. On an arc known to lie within a pitch it is an exit's first tooth, and a
+    /// strong pair is no proof against one (seed 9859 normal 9: a pair of 6.1 sigma_R by
+    /// noise, then an exit): not armed lower. After a pair of 16 N (about 6 sigma_R with
+    /// the noise) the same loss disarms it either way.
     #[test]
-    fn after_a_strong_pair_the_newest_tooths_loss_does_not_disarm() {
-        let (floor, share) = trip_arming_after(&[0.0, -24.0, 24.0, 0.0, -20.0]);
-        assert!(
-            floor.is_finite() && share == EVIDENCE_SHARE,
-            "{floor} {share}"
-        );
-        let (_, share) = trip_arming_after(&[0.0, -16.0, 16.0, 0.0, 0.0]);
-        assert_eq!(share, EVIDENCE_SHARE, "a hand-over");
-        let (floor, share) = trip_arming_after(&[0.0, -16.0, 16.0, 0.0, -20.0]);
+    fn after_a_strong_pair_the_newest_tooths_loss_disarms_a_known_narrow_arc() {
+        let unknown_arc = |after: &[f32]| {
+            let a = AlarmConfig::default()
+                .build(&EstimatorConfig::default())
+                .unwrap();
+            let mut st = AlarmState::default();
+            for (i, &fx) in forces(3.0, 40, after).iter().enumerate() {
+                let out = a.process(&mut st, &record(i, fx, Status::AMBIGUOUS));
+                assert!(out.event.is_none(), "{after:?}: record {i}");
+            }
+            assert!(st.held.is_none());
+            (st.trip_floor_n(), st.trip_share())
+        };
+        let strong_lost = [0.0, -24.0, 24.0, 0.0, -20.0];
+        let (floor, share) = unknown_arc(&strong_lost);
+        assert!(floor.is_finite() && share < TRIP_SHARE, "{floor} {share}");
+        let (floor, share) = trip_arming_after(&strong_lost);
         assert!(
             floor.is_infinite() || share >= TRIP_SHARE,
             "{floor} {share}"
         );
+        let (_, share) = trip_arming_after(&[0.0, -24.0, 24.0, 0.0, 0.0]);
+        assert_eq!(share, EVIDENCE_SHARE, "a hand-over");
+        let weak_lost = [0.0, -16.0, 16.0, 0.0, -20.0];
+        for (floor, share) in [trip_arming_after(&weak_lost), unknown_arc(&weak_lost)] {
+            assert!(
+                floor.is_infinite() || share >= TRIP_SHARE,
+                "{floor} {share}"
+            );
+        }
     }
 
     /// After a hand-over's pair, the handed tooth's trip is armed at 0.3; where every tooth
@@ -4047,6 +4077,47 @@ mod tests {
         // A tooth that gained shows no exit either.
         let gained = arming(5.0);
         assert!((gained.1 - held.1).abs() < 0.005, "{gained:?} {held:?}");
+    }
+
+    /// The close judges the trip's own channel: in a cut wider than a pitch too, the plain
+    /// trip's whole period is asked past that channel's noise where it is wider than the
+    /// resultant's (seed 9690 taught 7: 3 flutes, an exit's next window lost 0.507 of its
+    /// period against a reach of 0.41 plus the resultant's noise, under 0.5; the trip
+    /// channel's sigma 0.033 of it, the resultant's 0.024). `wide_arc` after a tooth that
+    /// lost 12 N (the exit it shows puts the share over `TRIP_SHARE`); the trip channel at
+    /// the resultant's noise, and at three times it.
+    #[test]
+    fn a_wide_cuts_close_asks_past_the_trip_channels_noise() {
+        let (a, _, _) = wide_arc();
+        let arming = |sigma_t: f32| {
+            let mut st = AlarmState::default();
+            let after = [0.0, 0.0, 0.0, 0.0, -12.0];
+            for (i, &fx) in forces(3.0, 40, &after).iter().enumerate() {
+                // (The trip channel as the second force: the resultant is sqrt(2) of it.)
+                let rec = ToothRecord {
+                    f2_n: fx,
+                    ..wide_record(i, fx)
+                };
+                let var_t = sigma_t * sigma_t;
+                let out = a.process_with(&mut st, &rec, None, (f32::NAN, var_t, 0), &mut NoProbe);
+                assert!(out.event.is_none(), "{sigma_t}: record {i}");
+            }
+            let sigma_r = libm::sqrtf(0.5 * st.e_var);
+            let before = st.force(a.n - 1);
+            (st.trip_share(), st.trip_whole_share(), sigma_r, before)
+        };
+        let (share, whole, sigma_r, _) = arming(0.0);
+        assert!(share > TRIP_SHARE && share < TRIP_MAX_SHARE, "{share}");
+        assert_eq!(whole, share);
+        // On the resultant's scale the trip channel's sigma is sqrt(2) of its own.
+        let wider = 3.0 * sigma_r / core::f32::consts::SQRT_2;
+        let (share, whole, sigma_r, before) = arming(wider);
+        let expect = 3.0 * (3.0 * sigma_r - sigma_r) / before;
+        assert!(expect > 0.05, "{expect}");
+        assert!(
+            (whole - share - expect).abs() < 0.2 * expect,
+            "{share} {whole} {expect}"
+        );
     }
 
     /// The trip's share where an exit through a face could take more than half the next

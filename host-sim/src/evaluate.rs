@@ -1712,6 +1712,30 @@ mod held_out_tests {
         no_alarm_over_noise(Kind::Normal, 7, 8783, 8);
     }
 
+    /// An exit of a 3-flute tool (up milling, `R_r` 1.16, `R_a` 1.5): its first window lost
+    /// 5.5 sigma_R, the trip was armed at 0.5 on the exit that loss shows (a reach of 0.41
+    /// plus the resultant's noise), and the next window's period, 0.395 lost in the truth,
+    /// lost 0.507 on the trip channel at its close (that channel's noise 3.4 sigma over
+    /// it, against a share that took the resultant's). The close asks past the trip
+    /// channel's noise in wide cuts too (alarm's
+    /// `a_wide_cuts_close_asks_past_the_trip_channels_noise`). One noise seed in 16 alarmed.
+    #[test]
+    fn an_exits_close_is_judged_past_the_trip_channels_noise() {
+        no_alarm_over_noise(Kind::Taught, 7, 9690, 16);
+    }
+
+    /// An exit of a 4-flute tool in a narrow arc (down milling, `R_r` 0.61, 200 N a tooth):
+    /// a pair of 6.1 sigma_R by noise (19 N lost, 37 N gained; 3 N in the truth) just
+    /// before it, strong, so the exit's first teeth (the newest 3 sigma_R down) did not
+    /// void the evidence, and the handed tooth's period, armed at 0.3, lost 30 % (24 % in
+    /// the truth). A strong pair keeps the evidence past the newest tooth's loss only where
+    /// no estimate tells the span (alarm's
+    /// `after_a_strong_pair_the_newest_tooths_loss_disarms_a_known_narrow_arc`).
+    #[test]
+    fn a_strong_noise_pair_before_an_exit_in_a_narrow_arc_is_no_evidence() {
+        no_alarm_over_noise(Kind::Normal, 9, 9859, 8);
+    }
+
     /// A flute of a 3-flute tool broken 32 % into its period (down milling, 2 904 rpm): its
     /// period lost 52 N (4.2 sigma_R) and the next gained 67 N. The trip of its next
     /// period, at 4 sigma_R, against a reference that had already lost those 52 N, passed
