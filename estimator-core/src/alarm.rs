@@ -3930,22 +3930,38 @@ mod tests {
     /// valid records at `R_r` `rr`, none raising: the drop trip's floor and share, and
     /// sigma_R.
     fn wide_arming(a: &Alarms, rr: f32, noise: f32, after: &[f32]) -> (f32, f32, f32) {
-        let mut st = AlarmState::default();
-        for (i, &fx) in forces(noise, 40, after).iter().enumerate() {
-            let rec = ToothRecord {
-                rr,
-                ..wide_record(i, fx)
-            };
-            assert!(
-                a.process(&mut st, &rec).event.is_none(),
-                "{rr} {after:?}: record {i}"
-            );
-        }
+        let st = wide_state(a, rr, noise, after, None);
         (
             st.trip_floor_n(),
             st.trip_share(),
             libm::sqrtf(0.5 * st.e_var),
         )
+    }
+
+    /// ... the state; with `trip_sigma` the records carry the trip channel as their second
+    /// force (the feed force's level: the resultant is sqrt(2) of it) and its noise at that
+    /// sigma.
+    fn wide_state(
+        a: &Alarms,
+        rr: f32,
+        noise: f32,
+        after: &[f32],
+        trip_sigma: Option<f32>,
+    ) -> AlarmState {
+        let mut st = AlarmState::default();
+        for (i, &fx) in forces(noise, 40, after).iter().enumerate() {
+            let rec = ToothRecord {
+                rr,
+                f2_n: trip_sigma.map_or(0.0, |_| fx),
+                ..wide_record(i, fx)
+            };
+            let out = match trip_sigma {
+                None => a.process(&mut st, &rec),
+                Some(s) => a.process_with(&mut st, &rec, None, (f32::NAN, s * s, 0), &mut NoProbe),
+            };
+            assert!(out.event.is_none(), "{rr} {after:?}: record {i}");
+        }
+        st
     }
 
     /// A hand-over's evidence lowers the drop trip's share to what an exit that begins in
@@ -4088,20 +4104,10 @@ mod tests {
     /// the resultant's noise, and at three times it.
     #[test]
     fn a_wide_cuts_close_asks_past_the_trip_channels_noise() {
-        let (a, _, _) = wide_arc();
+        let (a, rr, _) = wide_arc();
         let arming = |sigma_t: f32| {
-            let mut st = AlarmState::default();
             let after = [0.0, 0.0, 0.0, 0.0, -12.0];
-            for (i, &fx) in forces(3.0, 40, &after).iter().enumerate() {
-                // (The trip channel as the second force: the resultant is sqrt(2) of it.)
-                let rec = ToothRecord {
-                    f2_n: fx,
-                    ..wide_record(i, fx)
-                };
-                let var_t = sigma_t * sigma_t;
-                let out = a.process_with(&mut st, &rec, None, (f32::NAN, var_t, 0), &mut NoProbe);
-                assert!(out.event.is_none(), "{sigma_t}: record {i}");
-            }
+            let st = wide_state(&a, rr, 3.0, &after, Some(sigma_t));
             let sigma_r = libm::sqrtf(0.5 * st.e_var);
             let before = st.force(a.n - 1);
             (st.trip_share(), st.trip_whole_share(), sigma_r, before)
