@@ -3100,7 +3100,8 @@ mod tests {
         armed_on_arc(0.3, levels, after, flagged, shorter)
     }
 
-    /// ... the last valid estimate's `R_r` at `rr` (its `R_a` where eq. 7 gives the mean).
+    /// ... the last valid estimate's `R_r` at `rr` (its `R_a` where eq. 7 gives the mean;
+    /// no estimate for a negative `rr`).
     fn armed_on_arc(
         rr: f32,
         levels: [f32; 4],
@@ -3129,7 +3130,7 @@ mod tests {
         let a = AlarmConfig::default().build(&est).unwrap();
         let mean_n = levels.iter().sum::<f32>() / 4.0;
         let mut st = AlarmState {
-            held: Some((rr, mean_n / a.model_signal(rr, 1.0, 0.2))),
+            held: (rr >= 0.0).then(|| (rr, mean_n / a.model_signal(rr, 1.0, 0.2))),
             ..AlarmState::default()
         };
         let mut events = 0;
@@ -3716,14 +3717,8 @@ mod tests {
     #[test]
     fn after_a_strong_pair_the_newest_tooths_loss_disarms_a_known_narrow_arc() {
         let unknown_arc = |after: &[f32]| {
-            let a = AlarmConfig::default()
-                .build(&EstimatorConfig::default())
-                .unwrap();
-            let mut st = AlarmState::default();
-            for (i, &fx) in forces(3.0, 40, after).iter().enumerate() {
-                let out = a.process(&mut st, &record(i, fx, Status::AMBIGUOUS));
-                assert!(out.event.is_none(), "{after:?}: record {i}");
-            }
+            let (st, events) = armed_on_arc(-1.0, RUNOUT_30, after, &[], 0);
+            assert_eq!(events, 0, "{after:?}");
             assert!(st.held.is_none());
             (st.trip_floor_n(), st.trip_share())
         };
@@ -4865,6 +4860,30 @@ mod tests {
         AlarmConfig::default().build(&est).unwrap()
     }
 
+    /// Feeds `len` (at most 120) records of a 2-flute cut to `a`, record `i` made by
+    /// `make(i, e)` from its noise `e` (`sigma` N; drawn for every record: skipping one
+    /// would shift the runout taken out of the noise by a tooth, and a 30 N pattern
+    /// repeating every other revolution would make pairs), its tooth `i % 2`. The first
+    /// event: its record and cause.
+    fn first_event_2_flutes(
+        a: &Alarms,
+        sigma: f32,
+        len: usize,
+        mut make: impl FnMut(usize, f32) -> ToothRecord,
+    ) -> Option<(usize, Cause)> {
+        let mut noise = forces(sigma, 30, &[]).into_iter();
+        let mut st = AlarmState::default();
+        for i in 0..len {
+            let e = noise.next().unwrap() - if i % 4 == 0 { 130.0 } else { 100.0 };
+            let mut rec = make(i, e);
+            rec.tooth = (i % 2) as u8;
+            if let Some(e) = a.process(&mut st, &rec).event {
+                return Some((i, e.cause));
+            }
+        }
+        None
+    }
+
     /// A 2-flute tool lost a tooth after the window moved (seed 8572 gone 5, its forces):
     /// the move's odd period, a full period and a partly cut one (both flagged transient
     /// as the monitor flags them), one nearly empty, then not cutting, the fifth record
@@ -4875,14 +4894,8 @@ mod tests {
     fn a_tool_lost_just_after_a_moved_window_is_a_lost_tool() {
         let a = alarms_2_flutes(30.0);
         let first = |lost: bool| {
-            let mut noise = forces(3.0, 30, &[]).into_iter();
-            let mut st = AlarmState::default();
-            for i in 0..100usize {
+            first_event_2_flutes(&a, 3.0, 100, |i, e| {
                 let level = if i % 2 == 0 { 230.0 } else { 290.0 };
-                // (Drawn for every record: skipping one would shift the runout taken out
-                // of the noise by a tooth, and a 30 N pattern repeating every other
-                // revolution would make pairs.)
-                let e = noise.next().unwrap() - if i % 4 == 0 { 130.0 } else { 100.0 };
                 let f = match (lost, i) {
                     (_, 80) => 262.0,
                     (true, 81) => 202.0,
@@ -4897,13 +4910,8 @@ mod tests {
                     (true, 84..) => Status::NOT_CUTTING,
                     _ => Status::AMBIGUOUS,
                 };
-                let mut rec = record(i, f, status);
-                rec.tooth = (i % 2) as u8;
-                if let Some(e) = a.process(&mut st, &rec).event {
-                    return Some((i, e.cause));
-                }
-            }
-            None
+                record(i, f, status)
+            })
         };
         assert_eq!(first(false), None);
         assert_eq!(first(true), Some((83, Cause::ToolGone)));
@@ -4923,12 +4931,9 @@ mod tests {
         let a = alarms_2_flutes(30.0);
         // `after(i, level)`: record i's force from record 79 on; `tc_mm` from 80 on.
         let first = |levels: [f32; 2], after: &dyn Fn(usize, f32) -> f32, tc_mm: f32| {
-            let mut noise = forces(3.0, 30, &[]).into_iter();
-            let mut st = AlarmState::default();
             let mut before = 0.0;
-            for i in 0..100usize {
+            first_event_2_flutes(&a, 3.0, 100, |i, e| {
                 let level = levels[i % 2];
-                let e = noise.next().unwrap() - if i % 4 == 0 { 130.0 } else { 100.0 };
                 let f = if i < 79 {
                     level + e
                 } else {
@@ -4942,15 +4947,11 @@ mod tests {
                 };
                 before = f;
                 let mut rec = record(i, f, status);
-                rec.tooth = (i % 2) as u8;
                 if i >= 80 {
                     rec.tc_mm = tc_mm;
                 }
-                if let Some(e) = a.process(&mut st, &rec).event {
-                    return Some((i, e.cause));
-                }
-            }
-            None
+                rec
+            })
         };
         let levels = [230.0, 290.0];
         let lost = |kept: f32| {
@@ -5016,9 +5017,7 @@ mod tests {
         // `broken`: flute 1 breaks 40 % into its period at record 81, flute 0 cuts its
         // chip from then on.
         let first = |broken: bool, sigma: f32| {
-            let mut noise = forces(sigma, 30, &[]).into_iter();
-            let mut st = AlarmState::default();
-            for i in 0..120usize {
+            first_event_2_flutes(&a, sigma, 120, |i, e| {
                 let level = if i % 2 == 0 { 195.0 } else { 225.0 };
                 let lost = match (broken, i) {
                     (true, 81) => -135.0,
@@ -5027,7 +5026,6 @@ mod tests {
                     (true, 83..) => 225.0,
                     _ => 0.0,
                 };
-                let e = noise.next().unwrap() - if i % 4 == 0 { 130.0 } else { 100.0 };
                 // (As the monitor flags them: the broken flute's periods transient, all
                 // settling.)
                 let status = match i {
@@ -5036,13 +5034,8 @@ mod tests {
                     81.. if broken => Status::SETTLING,
                     _ => Status::AMBIGUOUS,
                 };
-                let mut rec = record(i, level + lost + e, status);
-                rec.tooth = (i % 2) as u8;
-                if let Some(e) = a.process(&mut st, &rec).event {
-                    return Some((i, e.cause));
-                }
-            }
-            None
+                record(i, level + lost + e, status)
+            })
         };
         // (At 3 N the rules on `E` see it too; at the case's 14 N only this one.)
         for sigma in [3.0, 14.0] {
