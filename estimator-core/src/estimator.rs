@@ -579,6 +579,29 @@ mod tests {
     }
 
     #[test]
+    fn laws_identified_down_to_a_lower_feed_keep_their_polynomial() {
+        // A calibration that reached 0.04 mm/tooth and found Table 2's laws: a cut at 0.05
+        // is in range now, estimated by the same polynomial (fitted for the laws down to
+        // 0.02), and to the polynomial's error of the forward model's immersion (past the
+        // light up-milling cuts that are ambiguous at any range).
+        for mode in [MillingMode::Down, MillingMode::Up] {
+            let mut c = EstimatorConfig {
+                mode,
+                ..Default::default()
+            };
+            c.coeffs.tc_fit_mm.0 = 0.04;
+            let e = c.build().unwrap();
+            assert!(e.has_polynomial());
+            for rr in [0.9, 1.2, 1.6] {
+                let r = e.estimate(0.05, motor(mode, rr, 1.0, 0.05));
+                assert_eq!(r.status, Status::VALID, "{mode:?} {rr}");
+                assert_eq!(r.method, Method::Polynomial);
+                assert!((r.rr - rr).abs() < 0.01 * rr, "{mode:?} {r:?}");
+            }
+        }
+    }
+
+    #[test]
     fn light_up_milling_cut_is_ambiguous() {
         // f_xt turns over at light up-milling cuts (R_r ~ 0.1-0.25): two immersions give
         // the same ratio there.

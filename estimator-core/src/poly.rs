@@ -44,9 +44,13 @@ pub struct FxtPoly {
 }
 
 impl FxtPoly {
-    /// Whether this set was fitted for `coeffs` and `mode`.
+    /// Whether this set was fitted for `coeffs`' laws and `mode`. Not their fitted feed
+    /// range (`tc_fit_mm`, where the laws were identified): the polynomial inverts eq. 12
+    /// for the laws over its own `tc_mm`, and a calibration that reaches lower feeds with
+    /// the same laws leaves it as exact as before.
     pub fn fits(&self, coeffs: &CuttingCoefficients, mode: MillingMode) -> bool {
-        self.mode == mode && self.coeffs == *coeffs
+        let laws = |c: &CuttingCoefficients| (c.ks, c.r1, c.r2);
+        self.mode == mode && laws(&self.coeffs) == laws(coeffs)
     }
 
     /// The polynomial alone, without range checks.
