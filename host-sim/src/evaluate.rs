@@ -41,10 +41,12 @@
 //! its own, so a block of seeds there is held out in its cuts as well as in its noise.
 
 use anyhow::{anyhow, bail, Result};
-use estimator_core::alarm::{AlarmConfig, Cause, DriftReference, EnvelopeRecorder};
+use estimator_core::alarm::{
+    AlarmConfig, AlarmEvent, AlarmOutput, AlarmState, Cause, DriftReference, EnvelopeRecorder,
+};
 use estimator_core::{
     average_forces, Engagement, EstimatorConfig, MachineConfig, MillingMode, MonitorConfig,
-    PipelineState, TABLE2,
+    PipelineState, ToothRecord, TABLE2,
 };
 use std::fmt::Write as _;
 
@@ -101,6 +103,10 @@ impl Kind {
     /// Whether the damage has an instant (latency "within one revolution" means something).
     pub fn sudden(self) -> bool {
         matches!(self, Kind::Break | Kind::Chip | Kind::Gone)
+    }
+    /// The kind of set `name` ([`Kind::name`]).
+    pub fn parse(name: &str) -> Option<Kind> {
+        KINDS.into_iter().find(|k| k.name() == name)
     }
 }
 
@@ -591,6 +597,16 @@ pub fn draw_case(kind: Kind, index: usize, seed: u64) -> Result<Case> {
 
 /// Simulates and replays one case.
 pub fn run_case(case: &Case) -> Result<Outcome> {
+    run_case_with(case, |_, _, _| {})
+}
+
+/// [`run_case`], showing `seen` every simulated sample (its truth), what the pipeline made
+/// of it (a record and the alarms' output where a tooth period closed) and the alarm
+/// state after it.
+fn run_case_with(
+    case: &Case,
+    mut seen: impl FnMut(&crate::trace::TraceRow, Option<&(ToothRecord, AlarmOutput)>, &AlarmState),
+) -> Result<Outcome> {
     let mut machine = case.machine.clone();
     // Teach-in: the envelope of the good job, as a user records it.
     if let Some(taught) = &case.taught {
@@ -652,6 +668,7 @@ pub fn run_case(case: &Case) -> Result<Outcome> {
         sample += 1;
         cutting_samples += u64::from(row.truth.dr_mm > 0.0);
         let out = pipeline.process(&mut st, &row.to_sample());
+        seen(row, out.as_ref(), &st.alarms);
         if let Some((_, out)) = out {
             if let (None, Some(ev)) = (first_alarm, out.event) {
                 // The wear warning counts in the wear set only (elsewhere it does not stop
@@ -677,6 +694,222 @@ pub fn run_case(case: &Case) -> Result<Outcome> {
         rev_s,
         first_rev_teeth: (!clean_forces.is_empty()).then(|| first_rev / (case.ft_n * tooth_s)),
     })
+}
+
+/// One tooth record of a traced case ([`trace_case`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TracedRecord {
+    /// The record, as the pipeline made it.
+    pub record: ToothRecord,
+    /// The simulator's noise-free feed force over the record's samples [N].
+    pub true_fx_n: f64,
+    /// The simulator's noise-free tangential force over the record's samples [N].
+    pub true_ft_n: f64,
+    /// Flutes intact at the record's last sample (bit i: flute i).
+    pub intact: u32,
+    /// The floor of the drop trip the alarms armed for the next period [N] (infinite: not
+    /// armed).
+    pub trip_floor_n: f32,
+    /// That trip's share of the tooth's force.
+    pub trip_share: f32,
+    /// The alarm the record raised.
+    pub event: Option<AlarmEvent>,
+    /// The output latched after the record.
+    pub latched: bool,
+}
+
+/// Runs `case` as [`run_case`] does (the same outcome) and keeps every tooth record, with
+/// the truth over its samples: what to look at when a case is late or a false alarm.
+pub fn trace_case(case: &Case) -> Result<(Outcome, Vec<TracedRecord>)> {
+    let (mut fx, mut ft) = (Vec::new(), Vec::new());
+    let mut records = Vec::new();
+    let outcome = run_case_with(case, |row, out, alarms| {
+        fx.push(f64::from(row.truth.fx_n));
+        ft.push(f64::from(row.truth.ft_n));
+        if let Some((record, out)) = out {
+            records.push(TracedRecord {
+                record: *record,
+                true_fx_n: f64::NAN,
+                true_ft_n: f64::NAN,
+                intact: row.truth.flutes_intact,
+                trip_floor_n: alarms.trip_floor_n(),
+                trip_share: alarms.trip_share(),
+                event: out.event,
+                latched: out.latched,
+            });
+        }
+    })?;
+    // A period is its `samples` samples up to and including `end_sample` (0 from the
+    // first sample simulated).
+    let mean = |v: &[f64], r: &ToothRecord| {
+        let end = usize::try_from(r.end_sample).map_or(usize::MAX, |e| e.saturating_add(1));
+        let start = end.saturating_sub(r.samples as usize);
+        v.get(start..end)
+            .filter(|p| !p.is_empty())
+            .map_or(f64::NAN, |p| p.iter().sum::<f64>() / p.len() as f64)
+    };
+    for t in &mut records {
+        t.true_fx_n = mean(&fx, &t.record);
+        t.true_ft_n = mean(&ft, &t.record);
+    }
+    Ok((outcome, records))
+}
+
+/// The stretch of a traced case worth reading [s]: from `REVS_BEFORE` revolutions before
+/// the damage (or the first alarm, in a case without damage) to a revolution past the
+/// first alarm (or `REVS_AFTER` past the damage where none came). `None`: neither damage
+/// nor alarm.
+pub fn trace_window(outcome: &Outcome) -> Option<(f64, f64)> {
+    const REVS_BEFORE: f64 = 3.0;
+    const REVS_AFTER: f64 = 4.0;
+    let rev = outcome.rev_s;
+    let alarm = outcome.first_alarm.map(|(t, _)| t);
+    let at = outcome.damage_s.or(alarm)?;
+    let end = match alarm {
+        Some(t) if t >= at => t + rev,
+        _ => at + REVS_AFTER * rev,
+    };
+    Some((at - REVS_BEFORE * rev, end))
+}
+
+/// What a traced case came to against its set's goal, in words.
+fn verdict(o: &Outcome) -> String {
+    let after = |l: f64| format!("{:.2} revolutions after", l / o.rev_s);
+    if o.false_alarm() {
+        return "a false alarm".into();
+    }
+    match (o.kind.expected(), o.detected_after_onset_s()) {
+        (None, _) => "no alarm: right".into(),
+        (Some(_), None) => "missed".into(),
+        (Some(_), Some(l)) if o.kind.sudden() => {
+            let late = if l > o.rev_s { "late" } else { "within one" };
+            format!("{} the first changed force ({late})", after(l))
+        }
+        (Some(_), Some(l)) => format!("{:.3} s after the damage", l),
+    }
+}
+
+/// A traced case as text: what it is, what came of it, and its records from `from_s` to
+/// `to_s`, a line each.
+pub fn format_trace(
+    case: &Case,
+    outcome: &Outcome,
+    records: &[TracedRecord],
+    (from_s, to_s): (f64, f64),
+) -> String {
+    let sc = &case.scenario;
+    let flutes = usize::from(sc.tool.flutes);
+    let mut s = String::new();
+    let at_damage = if case.damage_s.is_some() {
+        " at the damage"
+    } else {
+        ""
+    };
+    let _ = writeln!(
+        s,
+        "seed {} {} {}: {} flutes, R {} mm, {} milling, {:.0} rpm{at_damage}, steady F_t {:.0} N",
+        case.seed,
+        case.kind.name(),
+        case.index,
+        flutes,
+        sc.tool.radius_mm,
+        format!("{:?}", sc.mode).to_lowercase(),
+        case.rpm_at_damage,
+        case.ft_n,
+    );
+    let alarm = outcome
+        .first_alarm
+        .map_or("none".to_string(), |(at, cause)| {
+            format!("{} at {at:.4} s", cause.name())
+        });
+    let damage = match (outcome.damage_s, outcome.onset_s) {
+        (None, _) => "no damage".to_string(),
+        (Some(d), None) => format!("damage at {d:.4} s"),
+        (Some(d), Some(o)) => format!("damage at {d:.4} s, forces changed from {o:.4} s"),
+    };
+    let _ = writeln!(s, "{damage}, first alarm {alarm}: {}", verdict(outcome));
+    let _ = writeln!(
+        s,
+        "\n{:>9} {:>5} {:>4} {:>8} {:>8} {:>8} {:>8} {:>6} {:>6} {:>7} {:>8} {:>5}  status, alarm",
+        "time_s",
+        "tooth",
+        "len",
+        "fx_n",
+        "f2_n",
+        "true_fx",
+        "true_ft",
+        "intact",
+        "rr",
+        "tc_mm",
+        "trip_n",
+        "share",
+    );
+    let fs = f64::from(case.machine.monitor.sample_rate_hz);
+    for r in records {
+        let rec = &r.record;
+        let time = rec.end_sample as f64 / fs;
+        if time < from_s || time > to_s {
+            continue;
+        }
+        let mut intact = String::new();
+        for i in (0..flutes).rev() {
+            intact.push(if r.intact >> i & 1 == 1 { '1' } else { '0' });
+        }
+        let event = r.event.map_or(String::new(), |e| {
+            format!(
+                ", {} ({:.1} against {:.1}), latched at {:.4} s",
+                e.cause.name(),
+                e.value,
+                e.threshold,
+                e.latched_sample as f64 / fs
+            )
+        });
+        let _ = writeln!(
+            s,
+            "{time:>9.4} {:>5} {:>4} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {intact:>6} {:>6.3} {:>7.4} {:>8.1} {:>5.2}  {}{event}{}",
+            rec.tooth,
+            rec.samples,
+            rec.fx_n,
+            rec.f2_n,
+            r.true_fx_n,
+            r.true_ft_n,
+            rec.rr,
+            rec.tc_mm,
+            r.trip_floor_n,
+            r.trip_share,
+            rec.status,
+            if r.latched && r.event.is_none() { ", latched" } else { "" },
+        );
+    }
+    s
+}
+
+/// A case named `KIND:INDEX` (`break:16`), the index within the full set's cases of that
+/// kind: what `evaluate-alarms --case` takes.
+pub fn parse_case(text: &str) -> Result<(Kind, usize)> {
+    let names = || KINDS.map(Kind::name).join(", ");
+    let (name, index) = text
+        .split_once(':')
+        .ok_or_else(|| anyhow!("--case {text}: expected KIND:INDEX, e.g. break:16"))?;
+    let kind = Kind::parse(name.trim())
+        .ok_or_else(|| anyhow!("--case {text}: no set {name:?}; the sets are {}", names()))?;
+    let index: usize = index
+        .trim()
+        .parse()
+        .map_err(|_| anyhow!("--case {text}: the index {index:?} is not a whole number"))?;
+    let count = KINDS
+        .iter()
+        .zip(SetSizes::FULL.counts)
+        .find(|(k, _)| **k == kind)
+        .map_or(0, |(_, n)| n);
+    if index >= count {
+        bail!(
+            "--case {text}: the full set's {} cases are 0-{}",
+            kind.name(),
+            count.saturating_sub(1)
+        );
+    }
+    Ok((kind, index))
 }
 
 /// How the monitor is set up, the same for every case of a run.
@@ -1140,6 +1373,151 @@ mod tests {
              seed 7 break 8: false alarm, Breakage at 0.9500 s (2.50 revolutions before the damage)\n\
              seed 7 break 9: false alarm, ToolGone at 1.0100 s (not the expected cause)\n"
         );
+    }
+
+    /// The trace is the case's own run: the same outcome as `run_case`, the records a plain
+    /// replay of its scenario gives, and each record's truth the mean of the simulator's
+    /// forces over its samples (summed here as the samples stream by).
+    #[test]
+    fn a_traced_case_is_its_run_with_the_truth_over_each_record() {
+        let case = draw_case(Kind::Break, 0, 1).expect("a break case");
+        let (outcome, traced) = trace_case(&case).expect("traced");
+        assert_eq!(outcome, run_case(&case).expect("run"));
+        let pipeline = case.machine.clone().build().expect("the case's machine");
+        let mut st = PipelineState::default();
+        let (mut replayed, mut truth) = (Vec::new(), Vec::new());
+        sim::simulate(&case.scenario, |row| {
+            truth.push((row.truth.fx_n, row.truth.ft_n));
+            if let Some((rec, out)) = pipeline.process(&mut st, &row.to_sample()) {
+                replayed.push((rec, out.event));
+            }
+            Ok(())
+        })
+        .expect("simulated");
+        assert_eq!(traced.len(), replayed.len());
+        for (t, (rec, event)) in traced.iter().zip(&replayed) {
+            assert_eq!((t.record, t.event), (*rec, *event));
+            let (mut fx, mut ft, mut k) = (0.0f64, 0.0f64, 0u32);
+            for (i, (x, y)) in truth.iter().enumerate() {
+                if i as u64 <= rec.end_sample && i as u64 + u64::from(rec.samples) > rec.end_sample
+                {
+                    fx += f64::from(*x);
+                    ft += f64::from(*y);
+                    k += 1;
+                }
+            }
+            assert_eq!(k, rec.samples);
+            assert!((t.true_fx_n - fx / f64::from(k)).abs() < 1e-6 * (1.0 + fx.abs()));
+            assert!((t.true_ft_n - ft / f64::from(k)).abs() < 1e-6 * (1.0 + ft.abs()));
+        }
+        assert!(
+            traced.iter().any(|t| t.event.is_some()),
+            "the break's alarm is traced"
+        );
+    }
+
+    /// Without noise or current-loop lag a valid record's tangential force is its period's
+    /// true force (to the spindle model's fit), where a period placed a sample or a tooth
+    /// off would not be: under runout the teeth differ by far more.
+    #[test]
+    fn a_traced_records_truth_is_over_its_own_period() {
+        let mut case = draw_case(Kind::Normal, 2, 1).expect("a normal case");
+        let sig = &mut case.scenario.signal;
+        (
+            sig.feed_noise,
+            sig.spindle_noise,
+            sig.feed_lag_s,
+            sig.spindle_lag_s,
+        ) = (0.0, 0.0, 0.0, 0.0);
+        let (_, traced) = trace_case(&case).expect("traced");
+        let valid: Vec<_> = traced
+            .iter()
+            .filter(|t| t.record.status.is_valid())
+            .collect();
+        assert!(valid.len() > 100, "{} valid records", valid.len());
+        for t in valid {
+            let f = f64::from(t.record.f2_n);
+            assert!(
+                (f - t.true_ft_n).abs() < 0.01 * t.true_ft_n,
+                "{f} against {}",
+                t.true_ft_n
+            );
+        }
+    }
+
+    /// The window shown: three revolutions before the damage to one past the first alarm;
+    /// four past the damage without one; around the alarm without damage; none without
+    /// either. And the text: the case, its verdict, and a line for each record in the
+    /// window, the alarm's on the record that raised it.
+    #[test]
+    fn a_trace_shows_the_case_and_its_records_around_the_damage() {
+        let o = Outcome {
+            kind: Kind::Break,
+            index: 3,
+            seed: 7,
+            cutting_s: 2.0,
+            first_alarm: Some((1.03, Cause::Breakage)),
+            damage_s: Some(1.0),
+            onset_s: Some(1.01),
+            tooth_s: 0.005,
+            rev_s: 0.02,
+            first_rev_teeth: Some(1.0),
+        };
+        let near =
+            |(a, b): (f64, f64), (c, d): (f64, f64)| (a - c).abs() < 1e-12 && (b - d).abs() < 1e-12;
+        assert!(near(trace_window(&o).unwrap(), (0.94, 1.05)));
+        let quiet = Outcome {
+            first_alarm: None,
+            ..o
+        };
+        assert!(near(trace_window(&quiet).unwrap(), (0.94, 1.08)));
+        let normal = Outcome {
+            kind: Kind::Normal,
+            damage_s: None,
+            onset_s: None,
+            ..o
+        };
+        assert!(near(trace_window(&normal).unwrap(), (0.97, 1.05)));
+        assert_eq!(
+            trace_window(&Outcome {
+                first_alarm: None,
+                ..normal
+            }),
+            None
+        );
+
+        let case = draw_case(Kind::Break, 0, 1).expect("a break case");
+        let (outcome, traced) = trace_case(&case).expect("traced");
+        let window = trace_window(&outcome).expect("a damage");
+        let text = format_trace(&case, &outcome, &traced, window);
+        let fs = f64::from(case.machine.monitor.sample_rate_hz);
+        let shown = traced
+            .iter()
+            .filter(|t| (window.0..=window.1).contains(&(t.record.end_sample as f64 / fs)))
+            .count();
+        assert!(shown > 8, "{shown} records");
+        assert!(text.starts_with("seed 1 break 0: "), "{text}");
+        let lines: Vec<&str> = text.lines().collect();
+        assert!(lines[1].ends_with(&verdict(&outcome)), "{text}");
+        assert_eq!(lines.len(), 4 + shown, "{text}");
+        let raised = lines.iter().filter(|l| l.contains(", breakage (")).count();
+        assert_eq!(raised, 1, "{text}");
+    }
+
+    #[test]
+    fn a_case_is_named_by_its_set_and_index() {
+        assert_eq!(parse_case("break:16").unwrap(), (Kind::Break, 16));
+        assert_eq!(parse_case("normal:119").unwrap(), (Kind::Normal, 119));
+        for (bad, says) in [
+            ("brake:1", "the sets are normal, break, chip"),
+            ("break", "expected KIND:INDEX"),
+            ("break:x", "not a whole number"),
+            ("break:120", "cases are 0-119"),
+            ("wear:30", "cases are 0-29"),
+        ] {
+            let e = parse_case(bad).unwrap_err().to_string();
+            assert!(e.contains(says), "{bad}: {e}");
+        }
     }
 }
 

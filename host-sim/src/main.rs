@@ -211,6 +211,21 @@ enum Command {
         /// there.
         #[arg(long, value_name = "MM")]
         tc_fit_from: Option<f32>,
+        /// Trace one case instead of running the sets: `KIND:INDEX` as the goal's list
+        /// names it ("seed 10794 break 16" is `--seed 10794 --case break:16`). Prints the
+        /// case, what came of it, and its tooth records around the damage (or the first
+        /// alarm): forces measured and true, flutes intact, estimate, the drop trip armed
+        /// for the next period, status and alarm.
+        #[arg(long, value_name = "KIND:INDEX", conflicts_with_all = ["seeds", "check", "verbose"])]
+        case: Option<String>,
+        /// With `--case`: records from this time [s] (default: 3 revolutions before the
+        /// damage, or the first alarm where there is no damage).
+        #[arg(long, value_name = "S", requires = "case")]
+        from: Option<f64>,
+        /// With `--case`: records up to this time [s] (default: a revolution past the first
+        /// alarm, or 4 past the damage where none came).
+        #[arg(long, value_name = "S", requires = "case")]
+        to: Option<f64>,
     },
 }
 
@@ -301,17 +316,27 @@ fn run(cli: Cli) -> Result<()> {
             verbose,
             window_at_pulse,
             tc_fit_from,
-        } => evaluate_cmd(
-            set,
-            seed..seed.saturating_add(seeds),
-            threads,
-            check,
-            verbose,
-            host_sim::evaluate::Setup {
+            case,
+            from,
+            to,
+        } => {
+            let setup = host_sim::evaluate::Setup {
                 align: !window_at_pulse,
                 tc_fit_from_mm: tc_fit_from,
-            },
-        ),
+            };
+            check_tc_fit_from(setup)?;
+            match case {
+                Some(case) => trace_cmd(&case, seed, setup, (from, to)),
+                None => evaluate_cmd(
+                    set,
+                    seed..seed.saturating_add(seeds),
+                    threads,
+                    check,
+                    verbose,
+                    setup,
+                ),
+            }
+        }
     }
 }
 
@@ -334,6 +359,56 @@ fn machine_rs_cmd(config: &Path, output: &Path) -> Result<()> {
     Ok(())
 }
 
+fn check_tc_fit_from(setup: host_sim::evaluate::Setup) -> Result<()> {
+    let high_mm = estimator_core::TABLE2.tc_fit_mm.1;
+    if let Some(lo) = setup
+        .tc_fit_from_mm
+        .filter(|lo| !(*lo > 0.0 && *lo <= high_mm))
+    {
+        bail!("--tc-fit-from {lo}: the feed the calibration reached must be above 0 and at most the fitted range's high end, {high_mm} mm");
+    }
+    Ok(())
+}
+
+/// `evaluate-alarms --case KIND:INDEX`: one case, traced.
+fn trace_cmd(
+    case: &str,
+    seed: u64,
+    setup: host_sim::evaluate::Setup,
+    (from, to): (Option<f64>, Option<f64>),
+) -> Result<()> {
+    use host_sim::evaluate;
+    for (name, v) in [("--from", from), ("--to", to)] {
+        if let Some(v) = v.filter(|v| !v.is_finite()) {
+            bail!("{name} {v}: a time in seconds");
+        }
+    }
+    if let (Some(a), Some(b)) = (from, to) {
+        if a > b {
+            bail!("--from {a} is after --to {b}");
+        }
+    }
+    let (kind, index) = evaluate::parse_case(case)?;
+    let mut c = evaluate::draw_case(kind, index, seed)?;
+    setup.apply(&mut c);
+    let (outcome, records) = evaluate::trace_case(&c)?;
+    let window = evaluate::trace_window(&outcome);
+    let window = match (from, to, window) {
+        (Some(a), Some(b), _) => (a, b),
+        (a, b, Some((wa, wb))) => (a.unwrap_or(wa), b.unwrap_or(wb)),
+        (a, b, None) => {
+            if a.is_none() || b.is_none() {
+                eprintln!(
+                    "no damage and no alarm in this case: give --from and --to to see records"
+                );
+            }
+            (a.unwrap_or(f64::INFINITY), b.unwrap_or(f64::NEG_INFINITY))
+        }
+    };
+    print!("{}", evaluate::format_trace(&c, &outcome, &records, window));
+    Ok(())
+}
+
 fn evaluate_cmd(
     set: SetArg,
     seeds: std::ops::Range<u64>,
@@ -343,13 +418,6 @@ fn evaluate_cmd(
     setup: host_sim::evaluate::Setup,
 ) -> Result<()> {
     use host_sim::evaluate;
-    let high_mm = estimator_core::TABLE2.tc_fit_mm.1;
-    if let Some(lo) = setup
-        .tc_fit_from_mm
-        .filter(|lo| !(*lo > 0.0 && *lo <= high_mm))
-    {
-        bail!("--tc-fit-from {lo}: the feed the calibration reached must be above 0 and at most the fitted range's high end, {high_mm} mm");
-    }
     let sizes = match set {
         SetArg::Small => evaluate::SetSizes::SMALL,
         SetArg::Full => evaluate::SetSizes::FULL,
