@@ -104,6 +104,7 @@ impl Kind {
     pub fn sudden(self) -> bool {
         matches!(self, Kind::Break | Kind::Chip | Kind::Gone)
     }
+
     /// The kind of set `name` ([`Kind::name`]).
     pub fn parse(name: &str) -> Option<Kind> {
         KINDS.into_iter().find(|k| k.name() == name)
