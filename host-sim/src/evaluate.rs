@@ -757,20 +757,22 @@ pub fn trace_case(case: &Case) -> Result<(Outcome, Vec<TracedRecord>)> {
 }
 
 /// The stretch of a traced case worth reading [s]: from `REVS_BEFORE` revolutions before
-/// the damage (or the first alarm, in a case without damage) to a revolution past the
-/// first alarm (or `REVS_AFTER` past the damage where none came). `None`: neither damage
-/// nor alarm.
+/// the damage or the first alarm, whichever came first, to a revolution past the first
+/// alarm (or `REVS_AFTER` past the damage where none came after it). `None`: neither
+/// damage nor alarm.
 pub fn trace_window(outcome: &Outcome) -> Option<(f64, f64)> {
     const REVS_BEFORE: f64 = 3.0;
     const REVS_AFTER: f64 = 4.0;
     let rev = outcome.rev_s;
     let alarm = outcome.first_alarm.map(|(t, _)| t);
     let at = outcome.damage_s.or(alarm)?;
-    let end = match alarm {
-        Some(t) if t >= at => t + rev,
-        _ => at + REVS_AFTER * rev,
+    let (start, end) = match alarm {
+        Some(t) if t >= at => (at, t + rev),
+        // (A false alarm before the damage: both shown.)
+        Some(t) => (t, at + REVS_AFTER * rev),
+        None => (at, at + REVS_AFTER * rev),
     };
-    Some((at - REVS_BEFORE * rev, end))
+    Some((start - REVS_BEFORE * rev, end))
 }
 
 /// What a traced case came to against its set's goal, in words.
@@ -1447,9 +1449,10 @@ mod tests {
     }
 
     /// The window shown: three revolutions before the damage to one past the first alarm;
-    /// four past the damage without one; around the alarm without damage; none without
-    /// either. And the text: the case, its verdict, and a line for each record in the
-    /// window, the alarm's on the record that raised it.
+    /// four past the damage without one; from before a false alarm that came before the
+    /// damage; around the alarm without damage; none without either. And the text: the
+    /// case, its verdict, and a line for each record in the window, the alarm's on the
+    /// record that raised it.
     #[test]
     fn a_trace_shows_the_case_and_its_records_around_the_damage() {
         let o = Outcome {
@@ -1472,6 +1475,11 @@ mod tests {
             ..o
         };
         assert!(near(trace_window(&quiet).unwrap(), (0.94, 1.08)));
+        let early = Outcome {
+            first_alarm: Some((0.9, Cause::Breakage)),
+            ..o
+        };
+        assert!(near(trace_window(&early).unwrap(), (0.84, 1.08)));
         let normal = Outcome {
             kind: Kind::Normal,
             damage_s: None,
