@@ -219,7 +219,7 @@ enum Command {
         #[arg(long, value_name = "KIND:INDEX", conflicts_with_all = ["seeds", "check", "verbose"])]
         case: Option<String>,
         /// With `--case`: records from this time [s] (default: 3 revolutions before the
-        /// damage, or the first alarm where there is no damage).
+        /// damage or the first alarm, whichever came first).
         #[arg(long, value_name = "S", requires = "case")]
         from: Option<f64>,
         /// With `--case`: records up to this time [s] (default: a revolution past the first
