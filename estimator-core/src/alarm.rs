@@ -113,9 +113,13 @@
 //!     two feeds per tooth of travel, or less where the newest tooth shows how far an
 //!     exit under way can have gone (its own loss and 3 sigma_R of noise, not the walk's
 //!     bound on it: at most the travel that takes that share of its force, and one feed
-//!     more; after a loss past 3 sigma_R, that travel and a feed), plus `3 sigma_R`, and the trip
-//!     is not armed beyond 0.9. The floor counts the next tooth's loss a revolution ago
-//!     (past 1.5 sigma_R, at least 2 sigma_R left): that period is the reference, and a
+//!     more; after a loss past 3 sigma_R, that travel and a feed), plus `4 sigma_R` of
+//!     the next period's noise (`TRIP_NOISE_SIGMAS`; 2 where that tooth handed over to
+//!     the next one inside its period a revolution ago, a hand-over past 2.5 sigma in the
+//!     record after its own, `HANDED_NOISE_SIGMAS`: an exit's teeth all lose, none hands
+//!     over, and a flute broken late in its cut hands over a little before it comes
+//!     round), and the trip is not armed beyond 0.9. The floor counts the next tooth's
+//!     loss a revolution ago (past 1.5 sigma_R, at least 2 sigma_R left): that period is the reference, and a
 //!     flute broken inside it left less there to lose; the loss over the two revolutions
 //!     together must pass 6 sigma_R (a difference of two tooth averages: the noise of one
 //!     `R`). Only with the last `2N` records not transient: as an exit fades over
@@ -142,8 +146,11 @@
 //!     the loss, already lacks what the broken flute did not cut). The share is raised to
 //!     what an exit that begins in that period could take (one feed's travel past what
 //!     the newest tooth allows and the next flute's reach past that, a heavy flute's
-//!     longer, even where that passes the two-feed exit; without the noise term): the
-//!     pair tells of the teeth before it, not of the period to come. Where the cut's span
+//!     longer, even where that passes the two-feed exit; without the noise term, but
+//!     where the newest tooth lost past 2 sigma_R, an exit maybe under way whose reach the
+//!     period's loss passes by its noise alone: then with 3 sigma_R of it,
+//!     `EVIDENCE_UNDER_WAY_SIGMAS`): the pair tells of the teeth before it, not of the
+//!     period to come. Where the cut's span
 //!     is within a pitch that trip is judged inside the period alone, not on the whole
 //!     period at its close: the broken flute's next pass loses from its first angles, and a
 //!     loss that passes only whole lies at the cut's far end, an up-milling exit's first
@@ -482,7 +489,7 @@ impl AlarmConfig {
             } else {
                 0
             },
-            peak_decay: libm::powf(PEAK_DECAY_PER_REV, 1.0 / n.max(1) as f32),
+            peak_decay: libm::expf(PEAK_DECAY_LN_PER_REV / n.max(1) as f32),
             tan_helix: crate::geometry::tan_helix(est.tool.helix_deg),
         })
     }
@@ -602,6 +609,9 @@ pub struct AlarmState {
     latched: Option<AlarmEvent>,
     /// Bit `k`: the record `k` back (0 the newest) carried no transient flag.
     unflagged: u32,
+    /// Bit `k`: the record `k` back held a hand-over inside its period past
+    /// [`HANDED_Z_SIGMAS`] (from the tooth before it).
+    handed_z: u16,
     /// The previous record's data was good and its watched force below the not-cutting
     /// floor (tool gone: two such teeth in a row).
     prev_dead: bool,
@@ -688,6 +698,7 @@ impl Default for AlarmState {
             wear_warned: false,
             latched: None,
             unflagged: 0,
+            handed_z: 0,
             prev_dead: false,
             resumed: 0,
             realigned: false,
@@ -807,6 +818,18 @@ const TRIP_QUIET_SIGMAS: f32 = 3.0;
 /// estimate's `R_r`, 0.02 low) and 0.548 with the noise; at the close 0.54 (one noise
 /// seed in 16; at 3.5 it still tripped).
 const TRIP_NOISE_SIGMAS: f32 = 4.0;
+/// ... or this many where the tooth handed over to the next one inside its period a
+/// revolution ago, past [`HANDED_Z_SIGMAS`] (an exit's teeth all lose: no hand-over). A
+/// flute broken late in its cut hands little over in its first revolution, under the
+/// hand-over's own 4.5 sigma, and is certain only on its next pass, whose window loses
+/// about as much as an exit's first in a wide cut: in 45 of 62 such late breaks (seeds
+/// 10785-11168) that hand-over stood at 2-4.5 sigma. At 2, the late breaks of seeds
+/// 11169-11360 went from 21 to 15, with no false alarm there or at 1-96 and 10785-10880.
+const HANDED_NOISE_SIGMAS: f32 = 2.0;
+/// A hand-over inside the period (`ToothRecord::handover_z`) that lowers the losing
+/// tooth's next drop trip to [`HANDED_NOISE_SIGMAS`]; noise passes it about once in
+/// 2 000 records of a steady cut.
+const HANDED_Z_SIGMAS: f32 = 2.5;
 /// ... raised where an exit through a face could take that much from the next period
 /// (`Alarms::trip_share`); beyond this share it is not armed (a broken flute's period,
 /// with the next flute's gain in it, rarely loses more).
@@ -847,6 +870,9 @@ const EVIDENCE_TRIP_SIGMAS: f32 = 4.0;
 /// ... but at least this many; and only where the newest tooth lost less than this many.
 const EVIDENCE_MIN_SIGMAS: f32 = 2.0;
 const EVIDENCE_KEPT_SIGMAS: f32 = 2.0;
+/// ... and where it lost more (an exit may be under way: the share is its reach), this
+/// many of the period's `sigma_R` over that reach.
+const EVIDENCE_UNDER_WAY_SIGMAS: f32 = 3.0;
 /// ... unless the pair was beyond this many sigma of `R` (4.2 sigma of the pair, about
 /// once in 100 000 teeth by noise; at 7, seed 45 case 34's 6.3 was late).
 const EVIDENCE_STRONG_SIGMAS: f32 = 6.0;
@@ -923,8 +949,10 @@ const STRONG_SHARE: f32 = 0.6;
 /// Fall of the revolution-mean force per revolution, relative to it, beyond which the cut
 /// is leaving (an exit), not steady.
 const FALLING_SHARE: f32 = 0.1;
-/// Decay of the recent peak force per revolution.
-const PEAK_DECAY_PER_REV: f32 = 0.98;
+/// Decay of the recent peak force per revolution (0.98), as its logarithm: a tooth's
+/// decay is `exp` of its `N`-th part (`expf` is on the board for the power laws; `powf`
+/// for this alone cost 600 B of flash).
+const PEAK_DECAY_LN_PER_REV: f32 = -0.020_202_707;
 
 /// Initial covariance of the wear multiplier (large: the first teeth decide).
 const P0: f32 = 1.0;
@@ -1176,6 +1204,7 @@ impl Alarms {
         // that one.
         let (prev_steady, prev2_steady) = (st.unflagged & 1 != 0, st.unflagged & 2 != 0);
         st.unflagged = st.unflagged << 1 | u32::from(!rec.status.contains(Status::TRANSIENT));
+        st.handed_z = st.handed_z << 1 | u16::from(rec.handover_z > HANDED_Z_SIGMAS);
         if st.handed == Some(rec.tooth) {
             // Its next period is over: the evidence was for that one.
             st.handed = None;
@@ -1836,7 +1865,8 @@ impl Alarms {
         // A lost tool takes the revolution-mean force from near its recent peak to the
         // not-cutting floor within a revolution or so; an exit from the part lowers it over
         // many. "Strong": the revolution mean within STRONG_SHARE of the recent peak, which
-        // decays by PEAK_DECAY_PER_REV a revolution so that a lighter cut later counts too.
+        // decays by 2 % a revolution (PEAK_DECAY_LN_PER_REV) so that a lighter cut later
+        // counts too.
         // "Steady": strong and not already falling by more than FALLING_SHARE of itself a
         // revolution; a quick exit (a few revolutions) passes through strong on its way
         // down and would otherwise look like a collapse at its end.
@@ -2224,7 +2254,17 @@ impl Alarms {
             let under_way = !st.handed_strong && lost > EVIDENCE_KEPT_SIGMAS;
             let checked =
                 (!st.handed_strong).then_some(crate::fmath::max(EVIDENCE_KEPT_SIGMAS, lost));
-            (EVIDENCE_SHARE, 0.0, 0.0, checked, under_way)
+            // (With an exit possibly under way the share is that exit's reach, which the
+            // period's loss passes by its noise alone: seed 11206 taught 16, 3 flutes at
+            // `R_r` 1.26, a noise pair of 4.9 sigma_R, then an exit's first tooth down 22
+            // %; the handed tooth's period lost 44 % in the truth, 57 % measured, against a
+            // reach of 0.47.)
+            let noise = if under_way {
+                EVIDENCE_UNDER_WAY_SIGMAS * sigma_r / st.force(self.n - 1)
+            } else {
+                0.0
+            };
+            (EVIDENCE_SHARE, noise, noise, checked, under_way)
         } else {
             let before = st.force(self.n - 1);
             // (Its own loss: the walk's bound on it, 3 sigma_R, and the noise again on top
@@ -2236,10 +2276,18 @@ impl Alarms {
             } else {
                 TRIP_QUIET_SIGMAS
             };
+            // The next period's tooth handed over a revolution ago (its hand-over shows
+            // in the record after its own, `N - 2` back).
+            let handed = self.n >= 2 && st.handed_z >> (self.n - 2) & 1 != 0;
+            let sigmas = if handed {
+                HANDED_NOISE_SIGMAS
+            } else {
+                TRIP_NOISE_SIGMAS
+            };
             (
                 TRIP_SHARE,
-                TRIP_NOISE_SIGMAS * sigma_r / before,
-                TRIP_NOISE_SIGMAS * sigma_t / before,
+                sigmas * sigma_r / before,
+                sigmas * sigma_t / before,
                 Some(crate::fmath::max(lost, 0.0)),
                 lost > TRIP_QUIET_SIGMAS,
             )
@@ -3200,6 +3248,69 @@ mod tests {
         let (wide, wider) = (run(20.0), run(40.0));
         assert!(wide > 2.0 * plain, "{wide} {plain}");
         assert!((wider / wide - 2.0).abs() < 1e-5, "{wider} {wide}");
+    }
+
+    /// A tooth that handed its chip over to the next one inside its period a revolution ago
+    /// (the record after its own past `HANDED_Z_SIGMAS`) has its next drop trip armed with
+    /// `HANDED_NOISE_SIGMAS` of noise instead of `TRIP_NOISE_SIGMAS`: half the noise term
+    /// (here about a quarter of the tooth). An exit's teeth all lose and hand nothing
+    /// over. A hand-over on another record, or under the sigmas, leaves the plain share.
+    #[test]
+    fn a_tooth_that_handed_over_is_armed_with_less_noise() {
+        let a = AlarmConfig::default()
+            .build(&EstimatorConfig::default())
+            .unwrap();
+        // Noisy enough that the smaller term still takes a wide arc's exit share over the
+        // plain share's least.
+        let f = forces_at(RUNOUT_30, 6.0, 40, &[]);
+        let mean_n = RUNOUT_30.iter().sum::<f32>() / 4.0;
+        let held = Some((1.4, mean_n / a.model_signal(1.4, 1.0, 0.2)));
+        let arm = |handed: Option<(usize, f32)>| {
+            let mut st = AlarmState {
+                held,
+                ..AlarmState::default()
+            };
+            for (i, &fx) in f.iter().enumerate() {
+                let mut rec = record(i, fx, Status::AMBIGUOUS);
+                if let Some((back, z)) = handed {
+                    if i + 1 + back == f.len() {
+                        rec.handover_z = z;
+                    }
+                }
+                assert!(a.process(&mut st, &rec).event.is_none(), "record {i}");
+            }
+            assert!(st.trip_floor_n().is_finite(), "armed");
+            st.trip_share()
+        };
+        let plain = arm(None);
+        // The next period's tooth is the newest's plus one; its own record 3 back, the
+        // one after it 2 back.
+        let handed = arm(Some((2, HANDED_Z_SIGMAS + 0.1)));
+        assert!(
+            handed > TRIP_SHARE,
+            "{handed}: not the least share ({plain})"
+        );
+        assert!(plain - handed > 0.1, "{plain} against {handed}");
+        for other in [(1, 9.0), (3, 9.0), (2, HANDED_Z_SIGMAS - 0.1)] {
+            assert_eq!(arm(Some(other)), plain, "{other:?}");
+        }
+    }
+
+    /// The recent peak decays by 2 % a revolution, whatever the flutes.
+    #[test]
+    fn the_peak_decays_by_two_percent_a_revolution() {
+        for flutes in [2u8, 3, 4, 7, 16] {
+            let est = EstimatorConfig {
+                tool: crate::geometry::Tool {
+                    flutes,
+                    ..EstimatorConfig::default().tool
+                },
+                ..EstimatorConfig::default()
+            };
+            let a = AlarmConfig::default().build(&est).unwrap();
+            let rev = f64::from(a.peak_decay).powi(i32::from(flutes));
+            assert!((rev - 0.98).abs() < 1e-6, "{flutes} flutes: {rev}");
+        }
     }
 
     /// `rec` of a period `by` samples shorter than `record`'s, its speed to match.

@@ -183,7 +183,10 @@ enum Command {
         seed: u64,
         /// Run the set at this many consecutive seeds from `--seed` and report them pooled
         /// (a held-out block: `--seed 8193 --seeds 96`), with every false alarm and every
-        /// full breakage missed or later than a revolution named by seed, set and index.
+        /// full breakage missed or later than a revolution named by seed, set and index
+        /// (with how far it stood above the noise by the deadline: the separation in sigma
+        /// of the best detector told in advance how the forces would change, on every
+        /// sample and on the tooth periods' sums).
         #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..=100_000))]
         seeds: u64,
         /// Worker threads.
@@ -213,9 +216,11 @@ enum Command {
         tc_fit_from: Option<f32>,
         /// Trace one case instead of running the sets: `KIND:INDEX` as the goal's list
         /// names it ("seed 10794 break 16" is `--seed 10794 --case break:16`). Prints the
-        /// case, what came of it, and its tooth records around the damage (or the first
-        /// alarm): forces measured and true, flutes intact, estimate, the drop trip armed
-        /// for the next period, status and alarm.
+        /// case, what came of it (for a damage, its separation by the deadline as in the
+        /// goal's list), and its tooth records around the damage (or the first alarm):
+        /// forces measured and true, flutes intact, estimate, the hand-over inside the
+        /// period (`ho_z`, sigma), the drop trip armed for the next period, status and
+        /// alarm.
         #[arg(long, value_name = "KIND:INDEX", conflicts_with_all = ["seeds", "check", "verbose"])]
         case: Option<String>,
         /// With `--case`: records from this time [s] (default: 3 revolutions before the
