@@ -201,12 +201,12 @@ pub struct Outcome {
     /// damage, in tooth periods of the steady cut's force. Sudden kinds only.
     pub first_rev_teeth: Option<f64>,
     /// How far the damage stands above the sensors' noise by the goal's deadline, one
-    /// revolution past the onset: the square root of the squared departures of the true
-    /// feed and tangential forces from the undamaged run's, summed over every sample from
-    /// the damage to the deadline, over one sample's noise ([`Case::noise_n`]). It is the
-    /// separation (in sigma) of the best detector there can be, one told in advance when
-    /// and how the forces will change (a matched filter). Sudden kinds only.
-    pub deadline_snr: Option<Separation>,
+    /// revolution past the onset: the true feed and tangential forces' departures from the
+    /// undamaged run's, from the damage to the deadline, against one sample's noise
+    /// ([`Case::noise_n`]), as the separation (in sigma) of the best detector there can
+    /// be, one told in advance when and how the forces will change (a matched filter), on
+    /// every sample and on the tooth periods' sums. Sudden kinds only.
+    pub separation: Option<Separation>,
 }
 
 impl Outcome {
@@ -721,12 +721,12 @@ fn run_case_with(
         tooth_s,
         rev_s,
         first_rev_teeth: (!clean_forces.is_empty()).then(|| first_rev / (case.ft_n * tooth_s)),
-        deadline_snr: (!clean_forces.is_empty())
+        separation: (!clean_forces.is_empty())
             .then(|| separations(&departures, &periods, case.noise_n())),
     })
 }
 
-/// The separations by the deadline ([`Outcome::deadline_snr`]) of the best detector on
+/// The separations by the deadline ([`Outcome::separation`]) of the best detector on
 /// every sample and of the best one on the tooth periods' sums, from the true forces'
 /// `departures` (sample, feed and tangential force [N]; every sample from the damage to the
 /// deadline) and the records' `periods` (last sample, length) at one sample's noise
@@ -734,9 +734,16 @@ fn run_case_with(
 /// the deadline: a trip inside the period sees them.
 fn separations(departures: &[(u64, [f64; 2])], periods: &[(u64, u32)], noise_n: f64) -> Separation {
     let every: f64 = departures.iter().map(|(_, [x, t])| x * x + t * t).sum();
+    let (first, last) = match (departures.first(), departures.last()) {
+        (Some(f), Some(l)) => (f.0, l.0),
+        _ => (1, 0),
+    };
     let mut summed = 0.0;
     for &(end, len) in periods {
         let start = (end + 1).saturating_sub(u64::from(len));
+        if end < first || start > last {
+            continue;
+        }
         let (mut sx, mut st, mut n) = (0.0, 0.0, 0u32);
         for (_, [x, t]) in departures.iter().filter(|(i, _)| (start..=end).contains(i)) {
             sx += x;
@@ -753,7 +760,7 @@ fn separations(departures: &[(u64, [f64; 2])], periods: &[(u64, u32)], noise_n: 
     }
 }
 
-/// How far a damage stands above the noise by the goal's deadline ([`Outcome::deadline_snr`]),
+/// How far a damage stands above the noise by the goal's deadline ([`Outcome::separation`]),
 /// in sigma.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Separation {
@@ -841,9 +848,9 @@ pub fn trace_window(outcome: &Outcome) -> Option<(f64, f64)> {
     Some((start - REVS_BEFORE * rev, end))
 }
 
-/// A sudden damage's [`Outcome::deadline_snr`], in words (empty for other kinds).
-fn separation(o: &Outcome) -> String {
-    o.deadline_snr.map_or(String::new(), |z| {
+/// A sudden damage's [`Outcome::separation`], in words (empty for other kinds).
+fn separation_text(o: &Outcome) -> String {
+    o.separation.map_or(String::new(), |z| {
         format!(
             "; separation by the deadline {:.1} sigma on the samples, {:.1} on the periods",
             z.samples, z.periods
@@ -910,7 +917,7 @@ pub fn format_trace(
         s,
         "{damage}, first alarm {alarm}: {}{}",
         verdict(outcome),
-        separation(outcome)
+        separation_text(outcome)
     );
     let _ = writeln!(
         s,
@@ -1114,7 +1121,7 @@ pub fn exceptions(outcomes: &[Outcome]) -> String {
                         s,
                         "{case}: late, {:.2} revolutions after the first missed cut{}",
                         l / o.rev_s,
-                        separation(o)
+                        separation_text(o)
                     );
                 }
                 Some(_) => {}
@@ -1428,7 +1435,7 @@ mod tests {
             tooth_s: 0.005,
             rev_s: 0.02,
             first_rev_teeth: Some(1.0),
-            deadline_snr: None,
+            separation: None,
         };
         let case = |kind, index, alarm: Option<(f64, Cause)>| Outcome {
             kind,
@@ -1598,13 +1605,13 @@ mod tests {
     fn a_breaks_separation_by_the_deadline_is_measured() {
         let case = draw_case(Kind::Break, 0, 1).expect("a break case");
         let o = run_case(&case).expect("ran");
-        let z = o.deadline_snr.expect("a sudden damage's separation");
+        let z = o.separation.expect("a sudden damage's separation");
         assert!(
             z.periods > 0.0 && z.periods <= z.samples && z.samples.is_finite(),
             "{z:?}"
         );
         let normal = run_case(&draw_case(Kind::Normal, 0, 1).expect("a normal case")).expect("ran");
-        assert_eq!(normal.deadline_snr, None);
+        assert_eq!(normal.separation, None);
     }
 
     /// The window shown: three revolutions before the damage to one past the first alarm;
@@ -1625,7 +1632,7 @@ mod tests {
             tooth_s: 0.005,
             rev_s: 0.02,
             first_rev_teeth: Some(1.0),
-            deadline_snr: None,
+            separation: None,
         };
         let near =
             |(a, b): (f64, f64), (c, d): (f64, f64)| (a - c).abs() < 1e-12 && (b - d).abs() < 1e-12;
@@ -1667,7 +1674,7 @@ mod tests {
         assert!(shown > 8, "{shown} records");
         assert!(text.starts_with("seed 1 break 0: "), "{text}");
         let lines: Vec<&str> = text.lines().collect();
-        let told = format!("{}{}", verdict(&outcome), separation(&outcome));
+        let told = format!("{}{}", verdict(&outcome), separation_text(&outcome));
         assert!(
             lines[1].ends_with(&told) && told.contains(" sigma on the samples"),
             "{text}"
