@@ -2250,6 +2250,8 @@ impl Alarms {
             st.exit_wide = crate::fmath::min(crate::fmath::max(wide, 0.0), 1.0);
         }
         let lost = (st.force(self.n) - st.force(0)) / sigma_r;
+        // The next period's tooth a revolution ago: the noise terms are shares of it.
+        let before = st.force(self.n - 1);
         let (least, noise, noise_t, checked, under_way) = if evidence.is_some() {
             let under_way = !st.handed_strong && lost > EVIDENCE_KEPT_SIGMAS;
             let checked =
@@ -2260,13 +2262,12 @@ impl Alarms {
             // %; the handed tooth's period lost 44 % in the truth, 57 % measured, against a
             // reach of 0.47.)
             let noise = if under_way {
-                EVIDENCE_UNDER_WAY_SIGMAS * sigma_r / st.force(self.n - 1)
+                EVIDENCE_UNDER_WAY_SIGMAS * sigma_r / before
             } else {
                 0.0
             };
             (EVIDENCE_SHARE, noise, noise, checked, under_way)
         } else {
-            let before = st.force(self.n - 1);
             // (Its own loss: the walk's bound on it, 3 sigma_R, and the noise again on top
             // put an exit 6 sigma_R of its force on, a share 0.02-0.04 higher at 4 flutes
             // in wide arcs, where breaks lost 55-63 %: seeds 9231 break 118, 9246 break
@@ -2319,9 +2320,8 @@ impl Alarms {
             // heaviest of 4 flutes, 18 % over the mean, lost 55 % at an exit's first
             // period, past the trip's share at a feed).
             let mean = st.hist_rev.get(st.slot(0)).copied().unwrap_or(0.0);
-            let next = st.force(self.n - 1);
-            let ahead = if next > mean && mean > 0.0 {
-                next / mean
+            let ahead = if before > mean && mean > 0.0 {
+                before / mean
             } else {
                 1.0
             };

@@ -675,12 +675,12 @@ fn run_case_with(
     let rev_s = 60.0 / case.rpm_at_damage;
     sim::simulate(&case.scenario, |row| {
         if let (Some(d), Some(c)) = (case.damage_s, clean_forces.get(sample)) {
-            let moved = f64::from((row.truth.fx_n - c[0]).abs() + (row.truth.ft_n - c[1]).abs());
+            let (dx, dt) = (row.truth.fx_n - c[0], row.truth.ft_n - c[1]);
+            let moved = f64::from(dx.abs() + dt.abs());
             if row.time_s >= d && row.time_s < d + rev_s {
                 first_rev += moved / fs;
             }
             if row.time_s >= d && onset_s.is_none_or(|o| row.time_s <= o + rev_s) {
-                let (dx, dt) = (row.truth.fx_n - c[0], row.truth.ft_n - c[1]);
                 departures.push((sample as u64, [f64::from(dx), f64::from(dt)]));
             }
             if onset_s.is_none() && row.time_s >= d {
