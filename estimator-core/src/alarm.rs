@@ -40,7 +40,9 @@
 //!     And each tooth's mean over the newest two revolutions against its mean over the two
 //!     `MEANS_BACK_REVS` (3) earlier, the floor `4.5 sigma_R / sqrt 2` (3 to 12 flutes,
 //!     every revolution at the same speed, none of the two earlier flagged transient as
-//!     far as the 32 newest records' flags reach): a loss the noise of single teeth hides.
+//!     far as the 32 newest records' flags reach): a loss the noise of single teeth hides;
+//!     not on a drop alone (the newest tooth down, the teeth before it unchanged from one
+//!     revolution earlier), whose gain against three revolutions back is old noise.
 //!   - a first tooth alone: out of a steady cut (the record before not transient, the
 //!     noise figure settled), a tooth whose force rose from one revolution earlier by
 //!     more than 35 % of it and 6 sigma_R, with at least the 3 (and the `N - 1`) teeth
@@ -1489,7 +1491,19 @@ impl Alarms {
                 // (The two earlier revolutions a steady cut's: in an exit fading over
                 // revolutions a heavy flute loses while a light one gains, both past the
                 // floor over three revolutions, seed 2906 normal 57 at 3 flutes.)
-                if settled && st.all_armed(self.armed_means) && st.flagged(3 * n as u32, 2 * n) == 0
+                // (Nor on a drop alone: the newest tooth down past the screen from one
+                // revolution earlier, the teeth before it within it. The means' gain is
+                // then three revolutions old, noise there, and the drop is a lost tool's
+                // first window as much as a broken flute's, decided on the next record by
+                // the next tooth's gain or its empty window. Seed 12018 gone 0: 3 flutes,
+                // the tool lost inside a tooth's cut, 55 % down, against two teeth whose
+                // means three revolutions back lay 40 and 27 N under their level: named a
+                // breakage.)
+                if settled
+                    && st.all_armed(self.armed_means)
+                    && st.flagged(3 * n as u32, 2 * n) == 0
+                    && !(st.force(0) - st.force(n) < -screen
+                        && self.changes_within(st, 1, n, screen).is_some())
                 {
                     let back = MEANS_BACK_REVS * n;
                     let newest = st.force(0) + st.force(n) - st.force(back) - st.force(back + n);
@@ -1797,8 +1811,9 @@ impl Alarms {
                         // the tail swinging by 2-5 sigma_R a revolution, 2 of the last 6
                         // flagged. The evidence's arming above is not affected.)
                         && st.flagged(0, 2 * n) < 2
-                        // (Nor in a speed ramp, the newest revolution not as long as the
-                        // one before: the period's bins are judged against that one's at
+                        // (Nor in a speed ramp, the newest revolution as long as neither
+                        // the one before nor the one before that, `steady_speed`: the
+                        // period's bins are judged against that one's at
                         // the same samples, and a light cut's short arc moves across them.
                         // Seed 5318 normal 35: 2 flutes, 54 N, 6 % slower over two
                         // revolutions; a period whose whole loss was 4.5 N tripped. Where a
@@ -1807,7 +1822,7 @@ impl Alarms {
                         // stage allows inside the period for the growth it has seen, which
                         // a ramp's start outruns: without this test, 2 of 16 noise seeds of
                         // that case still tripped.)
-                        && (!st.all_armed(self.armed_two_revs) || self.same_speed(st, n, 1))
+                        && (!st.all_armed(self.armed_two_revs) || self.steady_speed(st))
                 {
                     // (After a move the hand-over stage walks the periods since; and no
                     // credit: two revolutions are not armed.)
@@ -2254,8 +2269,18 @@ impl Alarms {
         let before = st.force(self.n - 1);
         let (least, noise, noise_t, checked, under_way) = if evidence.is_some() {
             let under_way = !st.handed_strong && lost > EVIDENCE_KEPT_SIGMAS;
-            let checked =
-                (!st.handed_strong).then_some(crate::fmath::max(EVIDENCE_KEPT_SIGMAS, lost));
+            // (The newest tooth's own loss, 0 for a gain, as the plain trip takes it, not
+            // the bound `kept` checked it against: an exit under way took at most that and
+            // its noise. With the bound, 2 sigma_R more, the reach of a 4-flute cut at
+            // `R_r` 1.6 was 0.46 against 0.42, and the broken flute's first whole window
+            // lost 0.457: seed 11755 break 118, 1.16 revolutions late. Without its own
+            // change, after a move: the bound.)
+            let own = if st.all_armed(self.armed_e) {
+                crate::fmath::max(lost, 0.0)
+            } else {
+                EVIDENCE_KEPT_SIGMAS
+            };
+            let checked = (!st.handed_strong).then_some(own);
             // (With an exit possibly under way the share is that exit's reach, which the
             // period's loss passes by its noise alone: seed 11206 taught 16, 3 flutes at
             // `R_r` 1.26, a noise pair of 4.9 sigma_R, then an exit's first tooth down 22
@@ -2497,6 +2522,26 @@ impl Alarms {
             return (both > SINGLE_EXCEEDANCE * threshold).then_some((both, threshold));
         }
         None
+    }
+
+    /// The plain trip's speed test: the newest revolution as long as the one before, or as
+    /// the one before that (`same_speed`). A ramp moves every revolution's length the same
+    /// way; after one, the tracked boundaries that a placed window follows swing by a few
+    /// samples for some 20 pulses (the tracker's second-order settling) while the spindle
+    /// turns steadily, and a revolution between two of one length is that swing (seed 11513
+    /// break 89: 2 flutes, 12 pulses after a 14 % slowdown, revolutions of 406, 404 and 411
+    /// samples; the heavy flute broke and its next pass, 90 % down, had no trip armed).
+    /// With three revolutions armed only: a lost pulse's record says nothing of the speed.
+    #[cold]
+    #[inline(never)]
+    fn steady_speed(&self, st: &AlarmState) -> bool {
+        let n = self.n;
+        let three = if 3 * n >= 64 {
+            u64::MAX
+        } else {
+            (1u64 << (3 * n)) - 1
+        };
+        self.same_speed(st, n, 1) || st.all_armed(three) && self.lengths_within(st, 2 * n, n, 100)
     }
 
     /// `same_speed` for the periods since a moved window (`k` of them, the newest armed in
@@ -3053,6 +3098,32 @@ mod tests {
         None
     }
 
+    /// A drop alone is not decided on two revolutions' means: the newest tooth 55 N down
+    /// from one revolution earlier, the teeth before it unchanged, while two teeth's means
+    /// three revolutions back lay 15 N under their level each (a pair of gains against
+    /// them; seed 12018 gone 0, a lost tool's first window named a breakage). With one of
+    /// the teeth before the drop up 20 N on the revolution before (a gain the newest
+    /// revolution shows), the same drop is a breakage.
+    #[test]
+    fn a_drop_alone_is_not_decided_against_old_means() {
+        let drop_after = |gain: f32| {
+            let mut after = [0.0f32; 20];
+            for rev in 0..2 {
+                after[4 * rev + 1] = -15.0;
+                after[4 * rev + 2] = -15.0;
+            }
+            after[18] = gain;
+            after[19] = -55.0;
+            let f = forces(3.0, 40, &after);
+            // (Unflagged: the means are decided only out of a steady cut.)
+            (first_breakage_as(&f, Status::AMBIGUOUS), f.len() - 1)
+        };
+        let (first, drop) = drop_after(0.0);
+        assert_eq!(first, None, "the drop at {drop}");
+        let (first, drop) = drop_after(20.0);
+        assert_eq!(first, Some(drop));
+    }
+
     /// The default alarms over a not-cutting floor of 5 N.
     fn alarms_at_5n() -> Alarms {
         let est = EstimatorConfig {
@@ -3530,6 +3601,30 @@ mod tests {
         let (floor, share) = arming(2);
         assert!(floor.is_finite() && share >= TRIP_SHARE, "{floor} {share}");
         assert!(arming(4).0.is_infinite());
+    }
+
+    /// ... but armed where only the revolution before the newest was off, the newest as
+    /// long as the one before that: the tracked boundaries' swing after a ramp, not a ramp
+    /// (seed 11513 break 89). Records are 250 samples; `by(r)` samples a tooth shorter in
+    /// the `r`-th revolution back (0 the newest). The middle one 4 shorter (1.6 %, past 1 %
+    /// and two samples against both neighbours): armed at the plain share. A ramp, each
+    /// revolution 4 a tooth shorter than the one before: not armed; nor a step whose newest
+    /// revolution stands off the two before it.
+    #[test]
+    fn a_revolution_swung_between_two_of_one_length_is_no_ramp() {
+        let arming = |by: [u32; 3]| {
+            let shorter = |i: usize, len: usize| {
+                let back = (len - 1 - i) / 4;
+                by.get(back).copied().unwrap_or(0)
+            };
+            let (st, events) = armed_on_arc_at_speed(0.3, RUNOUT_30, &[0.0; 5], &[], shorter);
+            assert_eq!(events, 0, "{by:?}");
+            (st.trip_floor_n(), st.trip_share())
+        };
+        let (floor, share) = arming([0, 4, 0]);
+        assert!(floor.is_finite() && share >= TRIP_SHARE, "{floor} {share}");
+        assert!(arming([8, 4, 0]).0.is_infinite(), "a ramp");
+        assert!(arming([4, 0, 0]).0.is_infinite(), "a step");
     }
 
     /// ... nor just after a speed change, while the tracked boundary still lags: the speed
@@ -4383,10 +4478,11 @@ mod tests {
     /// under `EVIDENCE_SHARE` (seed 3804 normal 11: 3 flutes, 8 mm, `R_r` 1.0, 0.18 mm a
     /// tooth, a noise pair, then an exit; the handed tooth, 17 % over the revolution's
     /// mean, lost 30 % against a share of 0.30, the two-feed exit's; its reach asks 0.32).
-    /// Here 4 flutes of that cut, one 17 % heavy, its tooth's loss handed on by 14 N (3 N
+    /// Here 4 flutes of that cut, one 40 % heavy, its tooth's loss handed on by 14 N (3 N
     /// of noise a tooth: evidence, not a strong pair): armed for it, the share is the exit's
-    /// one feed past the newest tooth and the heavy flute's chip further, `(1 + F_next /
-    /// F_mean + wide)` feeds.
+    /// at the travel the newest tooth's own loss allows (that loss, 0 for a gain, and 3
+    /// sigma_R of its force; a feed at most) and the heavy flute's chip further, `F_next /
+    /// F_mean + wide` feeds.
     #[test]
     fn a_pair_arms_over_a_heavy_flutes_reach() {
         let (rr, ra, tc_mm) = (1.0, 0.05, 0.18);
@@ -4397,7 +4493,7 @@ mod tests {
         assert!(crate::geometry::exit_loss_share(rr, 2.0 * feed) < EVIDENCE_SHARE);
         let a = AlarmConfig::default().build(&est).unwrap();
         let f = forces_at(
-            [117.0, 83.0, 100.0, 100.0],
+            [140.0, 60.0, 100.0, 100.0],
             3.0,
             40,
             &[-14.0, 14.0, 0.0, 0.0],
@@ -4418,7 +4514,16 @@ mod tests {
         let ahead = f[k - 3] / (f[k - 3..].iter().sum::<f32>() / 4.0);
         let span = crate::geometry::engaged_arc_rad(rr) + ra * libm::tanf(30f32.to_radians());
         let wide = (span - core::f32::consts::FRAC_PI_2) / span;
-        let reach = crate::geometry::exit_loss_share(rr, feed * (1.0 + ahead + wide));
+        // The exit the newest tooth allows: its own loss (0 for a gain) and 3 sigma_R of
+        // its force a revolution earlier, a feed at most.
+        let mean = st.hist_rev[st.slot(0)];
+        let sigma_r = libm::sqrtf(0.5 * a.decision_var(&st, mean).unwrap());
+        let own = ((f[k - 4] - f[k]) / sigma_r).max(0.0);
+        let hidden = (own + TRIP_QUIET_SIGMAS) * sigma_r / f[k - 4];
+        let x = crate::geometry::exit_travel(rr, hidden).min(feed);
+        let reach = crate::geometry::exit_loss_share(rr, x + feed * (ahead + wide));
+        // (Here under a feed: the own loss decides, not the bound `kept` checked.)
+        assert!(x < feed, "{x} {feed}");
         assert!(reach > EVIDENCE_SHARE, "{reach}");
         assert!(
             (st.trip_share() - reach).abs() < 1e-3,
