@@ -470,7 +470,6 @@ impl AlarmConfig {
                 return Err(OutOfRange("teach.envelope"));
             }
         }
-        let ones = |k: usize| if k >= 64 { u64::MAX } else { (1u64 << k) - 1 };
         Ok(Alarms {
             cfg: self,
             est: *est,
@@ -958,6 +957,16 @@ const PEAK_DECAY_LN_PER_REV: f32 = -0.020_202_707;
 
 /// Initial covariance of the wear multiplier (large: the first teeth decide).
 const P0: f32 = 1.0;
+
+/// The armed-bit mask of the newest `k` records (all 64 from 64 on).
+#[inline(always)]
+const fn ones(k: usize) -> u64 {
+    if k >= 64 {
+        u64::MAX
+    } else {
+        (1u64 << k) - 1
+    }
+}
 
 /// Whether the pair's gain `r0` stands above what an exit would leave the gaining
 /// tooth by [`EVIDENCE_EXIT_SIGMAS`] of `R` (`var_r`): `r0 + s F_next`, the loss `r1`
@@ -2536,12 +2545,8 @@ impl Alarms {
     #[inline(never)]
     fn steady_speed(&self, st: &AlarmState) -> bool {
         let n = self.n;
-        let three = if 3 * n >= 64 {
-            u64::MAX
-        } else {
-            (1u64 << (3 * n)) - 1
-        };
-        self.same_speed(st, n, 1) || st.all_armed(three) && self.lengths_within(st, 2 * n, n, 100)
+        self.same_speed(st, n, 1)
+            || st.all_armed(ones(3 * n)) && self.lengths_within(st, 2 * n, n, 100)
     }
 
     /// `same_speed` for the periods since a moved window (`k` of them, the newest armed in
@@ -2664,7 +2669,7 @@ impl Alarms {
     fn speed_settled(&self, st: &AlarmState) -> bool {
         let n = self.n.max(1);
         let back = SPEED_SETTLED_TEETH.next_multiple_of(n);
-        let two = (1u64 << (2 * n)) - 1;
+        let two = self.armed_two_revs;
         !st.all_armed(two | two << back)
             || self.lengths_within(st, back, 2 * self.n, SPEED_SETTLED_PER)
     }
@@ -2811,12 +2816,7 @@ impl Alarms {
         // least FIRST_TOOTH_QUIET_TEETH teeth before it quiet (one tooth, with two flutes,
         // says little about a ramp beginning).
         let quiet_teeth = (n - 1).max(FIRST_TOOTH_QUIET_TEETH);
-        let bits = quiet_teeth + n + 1;
-        let mask = if bits >= 64 {
-            u64::MAX
-        } else {
-            (1u64 << bits) - 1
-        };
+        let mask = ones(quiet_teeth + n + 1);
         // (Nor where the quiet teeth rose together: an entry, each tooth under the bound
         // but their sum past FIRST_TOOTH_TREND_SIGMAS of its noise. Seed 3279 wear 5 with
         // the boundary at the pulses' tracked times, a variant: 3 teeth up 1.3-2 sigma_R
