@@ -496,7 +496,7 @@ pub fn draw_case(kind: Kind, index: usize, seed: u64) -> Result<Case> {
         format!(
             "sample_rate_hz = {FS_HZ}\nseed = {seed}\nmode = \"{mode_name}\"\n\
              [tool]\nradius_mm = {radius}\nflutes = {flutes}\nhelix_deg = 30.0\nrunout_mm = [{runout_list}]\n\
-             {BOARD}\n[signal]\nfeed_lag_s = 0.0005\nspindle_lag_s = 0.0005\nfeed_noise = {feed_noise}\n\
+             {BOARD}\n[signal]\nfeed_lag_s = {CURRENT_LAG_S}\nspindle_lag_s = {CURRENT_LAG_S}\nfeed_noise = {feed_noise}\n\
              spindle_noise = {spindle_noise}\nsync_jitter_samples = 1\nsync_phase_deg = {sync_phase_deg}\n{segs}"
         )
     };
@@ -1015,13 +1015,21 @@ pub struct Setup {
     /// calibration with cuts down to a lower feed finds the same laws and trusts them from
     /// there: the cuts drawn below 0.1042 (from 0.04) are then estimated, not flagged.
     pub tc_fit_from_mm: Option<f32>,
+    /// The servo amplifiers' current-loop lag on every channel [s] (a first-order time
+    /// constant); `None`: the cases' own, [`CURRENT_LAG_S`]. The monitor does not model
+    /// it: 0 measures what the lag costs the alarms.
+    pub lag_s: Option<f64>,
 }
+
+/// The current-loop lag every case is drawn with, feed and spindle channels alike [s].
+pub const CURRENT_LAG_S: f64 = 0.0005;
 
 impl Default for Setup {
     fn default() -> Self {
         Setup {
             align: true,
             tc_fit_from_mm: None,
+            lag_s: None,
         }
     }
 }
@@ -1032,6 +1040,10 @@ impl Setup {
         case.machine.monitor.align_window = self.align;
         if let Some(lo) = self.tc_fit_from_mm {
             case.machine.monitor.estimator.coeffs.tc_fit_mm.0 = lo;
+        }
+        if let Some(lag) = self.lag_s {
+            let sig = &mut case.scenario.signal;
+            (sig.feed_lag_s, sig.spindle_lag_s) = (lag, lag);
         }
     }
 }
@@ -1545,8 +1557,11 @@ mod tests {
     #[test]
     fn a_cases_sample_noise_is_its_records_scatter() {
         let mut case = draw_case(Kind::Normal, 2, 1).expect("a normal case");
-        let sig = &mut case.scenario.signal;
-        (sig.feed_lag_s, sig.spindle_lag_s) = (0.0, 0.0);
+        let lag_off = Setup {
+            lag_s: Some(0.0),
+            ..Setup::default()
+        };
+        lag_off.apply(&mut case);
         let (_, traced) = trace_case(&case).expect("traced");
         let z: Vec<f64> = traced
             .iter()
