@@ -336,10 +336,7 @@ fn run(cli: Cli) -> Result<()> {
                 tc_fit_from_mm: tc_fit_from,
                 lag_s,
             };
-            check_tc_fit_from(setup)?;
-            if let Some(lag) = lag_s.filter(|l| !(*l >= 0.0 && *l <= MAX_LAG_S)) {
-                bail!("--lag-s {lag}: a current-loop time constant from 0 to {MAX_LAG_S} s");
-            }
+            check_setup(setup)?;
             match case {
                 Some(case) => trace_cmd(&case, seed, setup, (from, to)),
                 None => evaluate_cmd(
@@ -378,13 +375,16 @@ fn machine_rs_cmd(config: &Path, output: &Path) -> Result<()> {
 /// flutes) would smear every tooth into the next; 10 ms is past any current loop's.
 const MAX_LAG_S: f64 = 0.01;
 
-fn check_tc_fit_from(setup: host_sim::evaluate::Setup) -> Result<()> {
+fn check_setup(setup: host_sim::evaluate::Setup) -> Result<()> {
     let high_mm = estimator_core::TABLE2.tc_fit_mm.1;
     if let Some(lo) = setup
         .tc_fit_from_mm
         .filter(|lo| !(*lo > 0.0 && *lo <= high_mm))
     {
         bail!("--tc-fit-from {lo}: the feed the calibration reached must be above 0 and at most the fitted range's high end, {high_mm} mm");
+    }
+    if let Some(lag) = setup.lag_s.filter(|l| !(*l >= 0.0 && *l <= MAX_LAG_S)) {
+        bail!("--lag-s {lag}: a current-loop time constant from 0 to {MAX_LAG_S} s");
     }
     Ok(())
 }
