@@ -371,8 +371,8 @@ fn machine_rs_cmd(config: &Path, output: &Path) -> Result<()> {
     Ok(())
 }
 
-/// `--lag-s`'s bound [s]: a lag of a tooth period or more (1.5 ms at 4 000 rpm and 10
-/// flutes) would smear every tooth into the next; 10 ms is past any current loop's.
+/// `--lag-s`'s bound [s]: far past any current loop's (a fraction of a millisecond). The
+/// cases' tooth periods are 3.75-25 ms: a lag near them smears each tooth into the next.
 const MAX_LAG_S: f64 = 0.01;
 
 fn check_setup(setup: host_sim::evaluate::Setup) -> Result<()> {
