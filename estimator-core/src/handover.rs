@@ -75,6 +75,28 @@
 //! at once, the open period's first. Per sample a multiply-add and a compare; per bin a
 //! division and an add.
 //!
+//! # Current-loop lag
+//! The servo amplifier's current loop lags the torque it measures: each sample is `y_k = a
+//! y_(k-1) + (1 - a) x_k` of the true `x` (`a = exp(-1 / tau)`, `tau` the loop's time
+//! constant in samples, [`crate::MonitorConfig::spindle_lag_s`]). Summed over samples `1..K`,
+//! `sum x = sum y + g (y_K - y_0)` with `g = a / (1 - a)`: a period's sum lacks `g` times
+//! the change of the level from its start to its end. At 0.5 ms and 10 kS/s (`g` 4.5
+//! samples, a tenth of a 4-flute tooth at 3 400 rpm) that costs the drop trip in a wide cut
+//! after a heavy tooth: the heavy window's end bleeds into the reference period the trip
+//! takes its share of (seed 12405 break 11: 1 442 N measured against 1 278 N true, the loss
+//! 59 % of it against 68 %). So the trip's content gets `g` times its period's last bin
+//! less the period before's (the bins' means standing for the periods' ends), and the
+//! whole period at its close `g` times the change at its end less the change at its start:
+//! each the change the last [`PLATEAU_BINS`] bins all show past what a shift of the bins by
+//! the jitter makes ([`lag_change`]), not one bin's or one sample's, whose noise and jitter
+//! `g` would multiply. The running sum inside the period is left as measured: the same
+//! term on its newest bins, the loss shown a lag sooner, raised false alarms on exits (seed
+//! 3804 normal 11, seed 9690 taught 7: an exit's loss at the window's far end seen sooner
+//! than the exit's share allows for), and the exact inverse on every sample multiplies a
+//! sample's noise by 7 at this lag (40 breaks late and 4 false alarms at seeds
+//! 12225-12320, BENCHMARKS.md). A pass over four bins a period; none of it where the lag is
+//! not set (0).
+//!
 //! Only between usable periods in tooth order (no lost pulse, feed change, bad data or
 //! air: any of them forgets every tooth's profile; a moved window re-cuts them at the new
 //! boundary, [`Handover::realign`], so that the drop trip is not blind for the revolution
@@ -123,6 +145,43 @@ fn bin_start(k: usize, step: u32) -> f32 {
     ((k as u32) << 16).div_ceil(step.max(1)) as f32
 }
 
+/// Bins the lag's term takes its change from ([`lag_change`]).
+const PLATEAU_BINS: usize = 3;
+
+/// The change every bin of `changes` shows beyond what a shift by `jitter_bins` makes: the
+/// smallest in size where all agree in sign, less `jitter_bins` times the largest step
+/// between neighbouring bins of `profile` (their reference bins and one each side: a shift
+/// moves each bin by its steps to them); else none. A flute's loss is a plateau over bins;
+/// one bin's change at a steep chip edge swings with the encoder's jitter by far more than
+/// its noise, and where the chip is short, so do two bins' (tried on the running sum
+/// inside the period, the term from the newest bin alone, and from two with the monitor
+/// told 1.5 times the lag, tripped 2-flute light cuts mid-period: seeds 12307 taught 3, in
+/// a speed change, and 12320 wear 5).
+#[inline(never)]
+fn lag_change(changes: &[f32], profile: &[f32], jitter_bins: f32) -> f32 {
+    let (mut lo, mut hi) = (f32::INFINITY, f32::NEG_INFINITY);
+    for &c in changes {
+        lo = if c < lo { c } else { lo };
+        hi = if c > hi { c } else { hi };
+    }
+    let mut step = 0.0f32;
+    let mut before = profile.first().copied().unwrap_or(0.0);
+    for &l in profile {
+        let s = libm::fabsf(l - before);
+        step = if s > step { s } else { step };
+        before = l;
+    }
+    // (A NaN change passes neither compare: none.)
+    let margin = jitter_bins * step;
+    if hi < -margin {
+        hi + margin
+    } else if lo > margin {
+        lo - margin
+    } else {
+        0.0
+    }
+}
+
 /// The stage, derived once from the monitor's configuration.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Handover {
@@ -139,6 +198,9 @@ pub struct Handover {
     pub whole_at_close: bool,
     /// A moved boundary re-cuts each tooth's bins ([`Handover::realign`]).
     pub realigns: bool,
+    /// The spindle channel's current-loop lag as `a / (1 - a)` samples, `a` its pole per
+    /// sample (see the module's "Current-loop lag"; 0: none allowed for).
+    pub lag_g: f32,
 }
 
 /// Running state: about 0.8 KiB.
@@ -237,6 +299,9 @@ pub struct HandoverState {
     /// a move), in the spindle channel's units of a tooth average; NaN where it was not
     /// compared with one.
     recut: f32,
+    /// The change at the open period's start (the closed period's last bins'), for the
+    /// current loop's lag (the module's "Current-loop lag").
+    lag_start: f32,
 }
 
 impl HandoverState {
@@ -314,6 +379,7 @@ impl Default for HandoverState {
             moved: [0.0; MAX_TEETH],
             moved_n: 0,
             recut: f32::NAN,
+            lag_start: 0.0,
         }
     }
 }
@@ -348,7 +414,21 @@ impl Handover {
             teeth: flutes,
             whole_at_close: placed,
             realigns: placed && per_tooth,
+            lag_g: 0.0,
         }
+    }
+
+    /// The stage with the spindle channel lagged by a current loop of time constant
+    /// `tau_samples` (samples; 0: none).
+    pub fn lagged(self, tau_samples: f32) -> Self {
+        // a / (1 - a) = 1 / (exp(1 / tau) - 1); a lag far under a sample is none (the
+        // exponential overflows to infinity, the ratio to 0).
+        let lag_g = if tau_samples > 0.0 {
+            1.0 / (libm::expf(1.0 / tau_samples) - 1.0)
+        } else {
+            0.0
+        };
+        Handover { lag_g, ..self }
     }
 
     /// One sample of the spindle channel in `bin` of the open period; `closed`: the sample
@@ -556,7 +636,15 @@ impl Handover {
         let sum = |t: u8| st.last_sum.get(t as usize).copied().unwrap_or(f32::NAN);
         // In sums over the bins: the open tooth's last period above the signal's level
         // with nothing cut (the closed period's mean less its tangential force).
-        let content = sum(st.open) - sum(closed) + ft_n * BINS as f32 / st.per_unit_n;
+        let mut content = sum(st.open) - sum(closed) + ft_n * BINS as f32 / st.per_unit_n;
+        if self.lag_g > 0.0 && st.change_ok {
+            // What the lag moved into the open tooth's last period from the end of the one
+            // before it (the closed tooth's a revolution earlier, `kept`: not the period
+            // just closed, which may be a broken flute's), less what it moved out at its own
+            // end; each period's last bin stands for its end.
+            let end = st.last.get(st.open as usize).and_then(|l| l.last());
+            content += self.lag_g / st.bin_len * (end.copied().unwrap_or(0.0) - st.kept);
+        }
         let floor = floor_n * BINS as f32 / st.per_unit_n;
         let limit = fmath::max(share * content, floor);
         if limit.is_finite() && limit > 0.0 {
@@ -625,6 +713,8 @@ impl Handover {
         // The armed trip on the whole period: the last bin counts now that the period is
         // complete (inside it, a longer period's excess made it no bin of the same angles).
         let mut whole_lost = f32::NEG_INFINITY;
+        // The change at its end, for the lag (the module's "Current-loop lag").
+        let mut end = 0.0;
         match st.last.get_mut(slot) {
             Some(last) => {
                 let kept = last.last().copied().unwrap_or(0.0);
@@ -667,6 +757,12 @@ impl Handover {
                 st.change_ok = change_ok;
                 st.against_recut = against_recut;
                 st.recut_rows &= !(1 << slot);
+                if self.lag_g > 0.0 {
+                    let from = BINS - PLATEAU_BINS;
+                    let changes = st.change.get(from..).unwrap_or(&[]);
+                    let profile = last.get(from - 1..).unwrap_or(&[]);
+                    end = lag_change(changes, profile, st.jitter_bins);
+                }
                 // (Only a period that reached its last bin: one cut short by a glitch
                 // holds its last complete bin's mean in the bins it never reached.)
                 if self.whole_at_close
@@ -674,7 +770,7 @@ impl Handover {
                     && st.open == tooth
                     && st.fold as usize == BINS - 1
                 {
-                    whole_lost = before - period;
+                    whole_lost = before - period - self.lag_g / st.bin_len * (end - st.lag_start);
                 }
             }
             None => st.change_ok = false,
@@ -684,6 +780,7 @@ impl Handover {
         st.open = ((tooth as usize + 1) % (self.teeth.max(1) as usize)) as u8;
         st.fold = 0;
         st.deficit = 0.0;
+        st.lag_start = if st.change_ok { end } else { 0.0 };
         // (Not `>=`: a NaN loss does not trip.)
         if !st.tripped && whole_lost > st.whole_trip {
             Self::tripped(st, whole_lost);
@@ -750,7 +847,9 @@ impl Handover {
         // within the jitter of one period's length) the old ones'.
         let step = bin_step((len + 0.5) as u32);
         let mut starts = [0.0f32; BINS];
-        for (k, s) in starts.iter_mut().enumerate() {
+        // (A loop: unrolled, a division a bin, it cost 236 B of flash.)
+        let bins = core::hint::black_box(BINS);
+        for (k, s) in starts.iter_mut().enumerate().take(bins) {
             *s = bin_start(k, step);
         }
         let start = |k: usize| starts.get(k).copied().unwrap_or(len);
@@ -1254,6 +1353,95 @@ mod tests {
         assert!(worst <= LEN / BINS, "{worst} samples off");
     }
 
+    /// `periods` through a first-order lag of `tau` samples (`y = a y' + (1 - a) x`,
+    /// `a = exp(-1 / tau)`), one stream across the periods: a current loop's.
+    fn lagged(periods: &[Vec<f32>], tau: f32) -> Vec<Vec<f32>> {
+        let a = (-1.0 / tau).exp();
+        let mut y = periods[0][0];
+        periods
+            .iter()
+            .map(|q| {
+                q.iter()
+                    .map(|&x| {
+                        y = a * y + (1.0 - a) * x;
+                        y
+                    })
+                    .collect()
+            })
+            .collect()
+    }
+
+    /// The limit the drop trip is armed with for period `k` (in sums over the bins), `share`
+    /// of the open tooth's force, `periods` fed as [`feed_off`] feeds them up to its start.
+    fn armed_limit(h: Handover, periods: &[Vec<f32>], share: f32, k: usize) -> f32 {
+        let mut st = HandoverState::default();
+        let mut step = 0u32;
+        for (j, p) in periods.iter().enumerate().take(k + 1) {
+            let closed = (j > 0).then(|| ((j - 1) % N as usize) as u8);
+            if j > 0 {
+                step = bin_step(periods[j - 1].len() as u32);
+            }
+            for (pos, &x) in p.iter().enumerate() {
+                let bin = (((pos as u64 * step as u64) >> 16) as usize).min(BINS - 1);
+                h.sample(&mut st, closed.filter(|_| pos == 0), bin, x);
+                if let (0, Some(t)) = (pos, closed) {
+                    h.period_start(&mut st, 0.0, 0.0);
+                    h.period_len(&mut st, periods[j - 1].len() as u32);
+                    h.measure(&mut st, t, Period::Cut { steady: true }, 1.0);
+                    let prev = &periods[j - 1];
+                    let ft = prev.iter().sum::<f32>() / prev.len() as f32;
+                    h.arm_trip(&mut st, t, ft, share, 0.0, f32::INFINITY, f32::INFINITY);
+                    if j == k {
+                        return st.trip;
+                    }
+                }
+            }
+        }
+        f32::NAN
+    }
+
+    /// A current loop's lag bleeds the end of one window into the start of the next: in a
+    /// wide cut (each window ending in the next flute's start, a ramp over its last 4 bins)
+    /// after a heavy tooth (1.3 times), the reference period a broken flute's trip takes
+    /// its share of reads more than the tooth's own force. Noise-free, through a 4-sample
+    /// lag: the trip armed with the lag allowed for asks the share of the force the
+    /// unlagged signal gives, to 1 %; without it, more by the share of the bleed (computed
+    /// here from the lagged periods' ends, to a quarter of it).
+    #[test]
+    fn a_lag_allowed_for_takes_the_trips_share_of_the_tooths_own_force() {
+        let ramp = 4 * (LEN / BINS);
+        let tail = |i: usize| 60.0 * (i + ramp + 1).saturating_sub(LEN) as f32 / ramp as f32;
+        let n = N as usize;
+        let p: Vec<Vec<f32>> = (0..40 * n)
+            .map(|j| {
+                let gain = if j % n == 0 { 1.3 } else { 1.0 };
+                (0..LEN).map(|i| gain * (flute(i) + tail(i))).collect()
+            })
+            .collect();
+        let tau = 4.0;
+        let y = lagged(&p, tau);
+        let h = Handover::new(N, true, true, true);
+        let (share, k) = (0.4, 61);
+        assert_eq!(k % n, 1);
+        let truth = armed_limit(h, &p, share, k);
+        let allowed = armed_limit(h.lagged(tau), &y, share, k);
+        let unallowed = armed_limit(h, &y, share, k);
+        // What the lag moved into the reference period (tooth 1's a revolution before `k`)
+        // from the heavy one before it, less what it moved out at its own end: `g` times
+        // the two periods' last samples; in sums over the bins, over a bin's length.
+        let g = 1.0 / ((1.0f32 / tau).exp() - 1.0);
+        let bleed = g * (y[k - n - 1][LEN - 1] - y[k - n][LEN - 1]) / (LEN / BINS) as f32;
+        assert!(
+            (allowed / truth - 1.0).abs() < 0.01,
+            "{allowed} against {truth}"
+        );
+        assert!(
+            (unallowed - truth - share * bleed).abs() < 0.25 * share * bleed,
+            "{unallowed} against {truth}: the share of the bleed {}",
+            share * bleed
+        );
+    }
+
     /// At the period's close the whole period counts, its last bin too (inside the period
     /// it is left out: it takes a longer period's excess). Periods of equal length whose
     /// last bin holds the start of the next flute's cut (arcs wider than a pitch): a
@@ -1654,10 +1842,25 @@ mod tests {
         );
         let h = Handover::new(N, true, true, true);
         assert_eq!(feed_armed_from(h, &p, &[], Some(share), from).1, None);
-        // Flute 1 breaks: from period `k` on it cuts nothing; its next pass trips.
+        // Through a current loop of 1.5 samples, allowed for at a half, one and one and a
+        // half times that: the trip's share of the reference, and the whole period at its
+        // close, corrected for the lag, hold.
+        let tau = 1.5;
+        let y = lagged(&p, tau);
+        for mis in [0.5, 1.0, 1.5] {
+            let trip = feed_armed_from(h.lagged(mis * tau), &y, &[], Some(share), from).1;
+            assert_eq!(trip, None, "{mis} of the lag");
+        }
+        // Flute 1 breaks: from period `k` on it cuts nothing; its next pass trips, lagged
+        // too.
         let k = (from / n + 3) * n + 1;
         break_flute(&mut p, k, 0.0, &mut noise);
         let (period, _, _) = feed_armed_from(h, &p, &[], Some(share), from).1.unwrap();
+        assert_eq!(period, k);
+        let y = lagged(&p, tau);
+        let (period, _, _) = feed_armed_from(h.lagged(tau), &y, &[], Some(share), from)
+            .1
+            .unwrap();
         assert_eq!(period, k);
     }
 

@@ -186,6 +186,22 @@ mod tests {
     }
 
     #[test]
+    fn spindle_lag_is_checked() {
+        for lag in [-1e-4, f32::NAN, f32::INFINITY, 0.02] {
+            let mut c = MachineConfig::default();
+            c.monitor.spindle_lag_s = lag;
+            assert_eq!(
+                c.build().err(),
+                Some(ConfigError::OutOfRange("spindle_lag_s")),
+                "{lag}"
+            );
+        }
+        let mut c = MachineConfig::default();
+        c.monitor.spindle_lag_s = crate::monitor::MAX_SPINDLE_LAG_S;
+        assert!(c.build().is_ok());
+    }
+
+    #[test]
     fn front_end_is_checked() {
         let mut c = MachineConfig::default();
         c.front_end.feed.units_per_volt = 0.0;

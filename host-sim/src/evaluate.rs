@@ -594,6 +594,8 @@ pub fn draw_case(kind: Kind, index: usize, seed: u64) -> Result<Case> {
                 ..EstimatorConfig::default()
             },
             clip: clip.map(|c| c as f32),
+            // As calibrated: the current loop's lag measured on the machine.
+            spindle_lag_s: scenario.signal.spindle_lag_s as f32,
             ..MonitorConfig::default()
         },
         alarms,
@@ -1016,9 +1018,13 @@ pub struct Setup {
     /// there: the cuts drawn below 0.1042 (from 0.04) are then estimated, not flagged.
     pub tc_fit_from_mm: Option<f32>,
     /// The servo amplifiers' current-loop lag on every channel [s] (a first-order time
-    /// constant); `None`: the cases' own, [`CURRENT_LAG_S`]. The monitor does not model
-    /// it: 0 measures what the lag costs the alarms.
+    /// constant); `None`: the cases' own, [`CURRENT_LAG_S`]. 0 measures what the lag costs
+    /// the alarms.
     pub lag_s: Option<f64>,
+    /// The spindle lag the monitor is told ([`MonitorConfig::spindle_lag_s`]); `None`: the
+    /// one the case is drawn with, as a calibration measures it. 0: the lag not allowed
+    /// for; another value measures what a mis-set one costs.
+    pub monitor_lag_s: Option<f32>,
 }
 
 /// The current-loop lag every case is drawn with, feed and spindle channels alike [s].
@@ -1030,6 +1036,7 @@ impl Default for Setup {
             align: true,
             tc_fit_from_mm: None,
             lag_s: None,
+            monitor_lag_s: None,
         }
     }
 }
@@ -1041,10 +1048,11 @@ impl Setup {
         if let Some(lo) = self.tc_fit_from_mm {
             case.machine.monitor.estimator.coeffs.tc_fit_mm.0 = lo;
         }
+        let sig = &mut case.scenario.signal;
         if let Some(lag) = self.lag_s {
-            let sig = &mut case.scenario.signal;
             (sig.feed_lag_s, sig.spindle_lag_s) = (lag, lag);
         }
+        case.machine.monitor.spindle_lag_s = self.monitor_lag_s.unwrap_or(sig.spindle_lag_s as f32);
     }
 }
 
@@ -2495,12 +2503,87 @@ mod held_out_tests {
             ..Setup::default()
         };
         for (index, seed) in [(57, 10320), (109, 10360)] {
-            let late: Vec<String> = outcomes_over_noise_in(setup, Kind::Break, index, seed, 8)
-                .into_iter()
-                .filter(|(_, out)| !out.detected_after_onset_s().is_some_and(|l| l <= out.rev_s))
-                .map(|(noise, out)| format!("noise seed {noise}: {:?}", out.first_alarm))
-                .collect();
+            let late = late_after_onset_in(setup, index, seed, 8);
             assert!(late.is_empty(), "break {index} at seed {seed}: {late:#?}");
+        }
+    }
+
+    /// Break case `index` at draw seed `seed` over `seeds` noise seeds with the monitor set
+    /// up as `setup`: the runs whose alarm was not within a revolution of the first missed
+    /// cut (the goal's measure).
+    fn late_after_onset_in(setup: Setup, index: usize, seed: u64, seeds: u64) -> Vec<String> {
+        outcomes_over_noise_in(setup, Kind::Break, index, seed, seeds)
+            .into_iter()
+            .filter(|(_, out)| !out.detected_after_onset_s().is_some_and(|l| l <= out.rev_s))
+            .map(|(noise, out)| format!("noise seed {noise}: {:?}", out.first_alarm))
+            .collect()
+    }
+
+    /// Wide 4-flute cuts in down milling (`R_r` about 1.5 where estimated, seed 12288
+    /// under the laws' fitted feed; 38-45 samples a tooth), a flute broken late in its
+    /// cut, whose next pass the spindle current loop's 0.5 ms lag (4.5 samples) kept from
+    /// tripping before the flute came back to its break: the heavy window before bled into
+    /// the reference period the trip's share is of (seed 12405 break 11: 1 442 N measured
+    /// against 1 278 N true). 1.23-1.29 revolutions after the first missed cut with the lag
+    /// unmodelled. Over 8 noise seeds each, the lag allowed for (the monitor told the
+    /// cases' own, as a calibration measures it) leaves at most half as many runs late (7
+    /// against 16 when measured). Not every late break gains: over the 15 late breaks of
+    /// seeds 12225-12416, 40 of their 120 runs late against 51, seed 12257 break 39 6
+    /// against 5 (BENCHMARKS.md).
+    #[test]
+    fn a_break_behind_the_current_loops_lag_is_caught_within_the_revolution() {
+        let unmodelled = Setup {
+            monitor_lag_s: Some(0.0),
+            ..Setup::default()
+        };
+        let cases = [
+            (11, 12405),
+            (61, 12322),
+            (76, 12328),
+            (109, 12240),
+            (73, 12288),
+        ];
+        let late = |setup: Setup| -> Vec<String> {
+            cases
+                .iter()
+                .flat_map(|&(index, seed)| {
+                    late_after_onset_in(setup, index, seed, 8)
+                        .into_iter()
+                        .map(move |run| format!("break {index} at seed {seed}, {run}"))
+                })
+                .collect()
+        };
+        let (allowed, unallowed) = (late(Setup::default()), late(unmodelled));
+        assert!(
+            2 * allowed.len() <= unallowed.len(),
+            "the lag allowed for: {allowed:#?}\nunmodelled: {unallowed:#?}"
+        );
+    }
+
+    /// 2-flute light cuts (`F_t` about 40 N, short steep chips; seed 12307 taught 3 in a
+    /// speed change, seed 12320 wear 5), where the lag's term on the running sum inside the
+    /// period (tried, not landed: `handover`'s "Current-loop lag") tripped mid-period: one
+    /// bin's change at a steep chip edge swings with the jitter by 20 times its noise, and
+    /// where the chip is short two bins' do too. With the monitor told a half, one and one
+    /// and a half times the true lag, they raise nothing over 8 noise seeds.
+    #[test]
+    fn a_lag_set_half_off_raises_no_drop_at_a_light_cuts_edge() {
+        for mis in [0.5, 1.0, 1.5] {
+            let setup = Setup {
+                monitor_lag_s: Some((mis * CURRENT_LAG_S) as f32),
+                ..Setup::default()
+            };
+            for (kind, index, seed) in [(Kind::Taught, 3, 12307), (Kind::Wear, 5, 12320)] {
+                let raised: Vec<String> = outcomes_over_noise_in(setup, kind, index, seed, 8)
+                    .into_iter()
+                    .filter(|(_, out)| out.false_alarm())
+                    .map(|(noise, out)| format!("noise seed {noise}: {:?}", out.first_alarm))
+                    .collect();
+                assert!(
+                    raised.is_empty(),
+                    "{kind:?} {index} at seed {seed}, {mis} of the lag: {raised:#?}"
+                );
+            }
         }
     }
 

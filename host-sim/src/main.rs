@@ -215,10 +215,17 @@ enum Command {
         #[arg(long, value_name = "MM", allow_negative_numbers = true)]
         tc_fit_from: Option<f32>,
         /// The servo amplifiers' current-loop lag on every channel [s], a first-order time
-        /// constant, instead of the cases' 0.0005. The monitor does not model the lag: `0`
-        /// measures what it costs the alarms (the same draws otherwise).
+        /// constant, instead of the cases' 0.0005 (the same draws otherwise); the monitor is
+        /// told it too (`spindle_lag_s`, as a calibration measures it). `0` measures what the
+        /// lag costs the alarms.
         #[arg(long, value_name = "S", allow_negative_numbers = true)]
         lag_s: Option<f64>,
+        /// The spindle current loop's time constant the monitor is told [s]
+        /// (`spindle_lag_s`), instead of the one the cases are drawn with: `0` leaves the lag
+        /// unmodelled (the drop trip as before it allowed for the lag), a value off the
+        /// cases' measures what a mis-set calibration costs.
+        #[arg(long, value_name = "S", allow_negative_numbers = true)]
+        monitor_lag_s: Option<f32>,
         /// Trace one case instead of running the sets: `KIND:INDEX` as the goal's list
         /// names it ("seed 10794 break 16" is `--seed 10794 --case break:16`). Prints the
         /// case, what came of it (for a damage, its separation by the deadline as in the
@@ -327,6 +334,7 @@ fn run(cli: Cli) -> Result<()> {
             window_at_pulse,
             tc_fit_from,
             lag_s,
+            monitor_lag_s,
             case,
             from,
             to,
@@ -335,6 +343,7 @@ fn run(cli: Cli) -> Result<()> {
                 align: !window_at_pulse,
                 tc_fit_from_mm: tc_fit_from,
                 lag_s,
+                monitor_lag_s,
             };
             check_setup(setup)?;
             match case {
@@ -372,7 +381,8 @@ fn machine_rs_cmd(config: &Path, output: &Path) -> Result<()> {
 }
 
 /// `--lag-s`'s bound [s]: far past any current loop's (a fraction of a millisecond). The
-/// cases' tooth periods are 3.75-25 ms: a lag near them smears each tooth into the next.
+/// cases' tooth periods are 3.75-25 ms: a lag near them smears each tooth into the next
+/// (the monitor's own bound, `MAX_SPINDLE_LAG_S`, is the same).
 const MAX_LAG_S: f64 = 0.01;
 
 fn check_setup(setup: host_sim::evaluate::Setup) -> Result<()> {
@@ -385,6 +395,10 @@ fn check_setup(setup: host_sim::evaluate::Setup) -> Result<()> {
     }
     if let Some(lag) = setup.lag_s.filter(|l| !(*l >= 0.0 && *l <= MAX_LAG_S)) {
         bail!("--lag-s {lag}: a current-loop time constant from 0 to {MAX_LAG_S} s");
+    }
+    let most = estimator_core::monitor::MAX_SPINDLE_LAG_S;
+    if let Some(lag) = setup.monitor_lag_s.filter(|l| !(*l >= 0.0 && *l <= most)) {
+        bail!("--monitor-lag-s {lag}: a current-loop time constant from 0 to {most} s");
     }
     Ok(())
 }

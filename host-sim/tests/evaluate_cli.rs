@@ -17,13 +17,15 @@ fn evaluate(args: &[&str]) -> (bool, String) {
 
 #[test]
 fn a_current_loop_lag_out_of_range_is_refused() {
-    for lag in ["-0.0001", "NaN", "inf", "0.02"] {
-        let (ok, err) = evaluate(&["--lag-s", lag, "--case", "break:0"]);
-        assert!(!ok, "--lag-s {lag} ran");
-        assert!(
-            err.contains("--lag-s") && err.contains("current-loop time constant"),
-            "--lag-s {lag}: {err}"
-        );
+    for option in ["--lag-s", "--monitor-lag-s"] {
+        for lag in ["-0.0001", "NaN", "inf", "0.02"] {
+            let (ok, err) = evaluate(&[option, lag, "--case", "break:0"]);
+            assert!(!ok, "{option} {lag} ran");
+            assert!(
+                err.contains(&format!("{option} ")) && err.contains("current-loop time constant"),
+                "{option} {lag}: {err}"
+            );
+        }
     }
 }
 
