@@ -847,7 +847,7 @@ impl Handover {
         // within the jitter of one period's length) the old ones'.
         let step = bin_step((len + 0.5) as u32);
         let mut starts = [0.0f32; BINS];
-        // (A loop: unrolled, a division a bin, it cost 236 B of flash.)
+        // (A loop: unrolled, a division a bin, it cost 408 B of the firmware's flash.)
         let bins = core::hint::black_box(BINS);
         for (k, s) in starts.iter_mut().enumerate().take(bins) {
             *s = bin_start(k, step);

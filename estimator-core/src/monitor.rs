@@ -121,9 +121,10 @@ pub struct MonitorConfig {
     /// ([`crate::window`]); off: they begin at the encoder pulse.
     pub align_window: bool,
     /// Time constant of the spindle amplifier's current loop, first order [s], from 0 to
-    /// [`MAX_SPINDLE_LAG_S`]; 0: none allowed for. The drop trip inside the tooth period
-    /// allows for it ([`crate::handover`], "Current-loop lag"); measured on the machine, it
-    /// is the current's response to a step of torque (63 %); a setting half or one and a half
+    /// [`MAX_SPINDLE_LAG_S`]; 0: none allowed for. The drop trip allows for it in the
+    /// reference it takes its share of and in the whole period at its close
+    /// ([`crate::handover`], "Current-loop lag"); measured on the machine, it is the
+    /// current's response to a step of torque (63 %); a setting half or one and a half
     /// times the true one raised no false alarm where the evaluation's cases were run so
     /// (BENCHMARKS.md).
     pub spindle_lag_s: f32,
