@@ -877,8 +877,30 @@ fn verdict(o: &Outcome) -> String {
     }
 }
 
-/// A traced case as text: what it is, what came of it, and its records from `from_s` to
-/// `to_s`, a line each.
+/// The true immersion ratios and feed per tooth at the start of the segment that holds
+/// `t_s` (each carried from the segment before where one leaves it out); `None` where no
+/// segment gives them or the speed is 0.
+fn engagement_at(sc: &Scenario, t_s: f64) -> Option<(f64, f64, f64)> {
+    let (mut dr, mut da, mut rpm, mut feed) = (None, None, None, None);
+    let mut start = 0.0;
+    for seg in &sc.segments {
+        let first = |p: &Option<crate::sim::scenario::Profile>| p.as_ref().map(|p| p.ends().0);
+        dr = first(&seg.dr_mm).or(dr);
+        da = first(&seg.da_mm).or(da);
+        rpm = first(&seg.rpm).or(rpm);
+        feed = first(&seg.feed_mm_min).or(feed);
+        start += seg.duration_s;
+        if start > t_s {
+            break;
+        }
+    }
+    let (r, n) = (sc.tool.radius_mm, f64::from(sc.tool.flutes));
+    let (dr, da, rpm, feed) = (dr?, da?, rpm?, feed?);
+    (rpm > 0.0 && r > 0.0).then(|| (dr / r, da / r, feed / (rpm * n)))
+}
+
+/// A traced case as text: what it is, its cut at the damage, what came of it, and its
+/// records from `from_s` to `to_s`, a line each.
 pub fn format_trace(
     case: &Case,
     outcome: &Outcome,
@@ -905,6 +927,12 @@ pub fn format_trace(
         case.rpm_at_damage,
         case.ft_n,
     );
+    if let Some((rr, ra, tc)) = engagement_at(sc, case.damage_s.unwrap_or(0.0)) {
+        let _ = writeln!(
+            s,
+            "cut{at_damage}: R_r {rr:.3}, R_a {ra:.3}, t_c {tc:.4} mm (true, at its segment's start)"
+        );
+    }
     let alarm = outcome
         .first_alarm
         .map_or("none".to_string(), |(at, cause)| {
@@ -1697,12 +1725,32 @@ mod tests {
         assert!(shown > 8, "{shown} records");
         assert!(text.starts_with("seed 1 break 0: "), "{text}");
         let lines: Vec<&str> = text.lines().collect();
-        let told = format!("{}{}", verdict(&outcome), separation_text(&outcome));
+        // The cut at the damage, within the draw's ranges (R_r 0.2-1.6, R_a 0.3-1.5, t_c
+        // 0.04-0.2 mm).
+        let cut: Vec<f64> = lines[1]
+            .strip_prefix("cut at the damage: ")
+            .unwrap_or_else(|| panic!("{text}"))
+            .split(", ")
+            .take(3)
+            .map(|f| {
+                f.split(' ')
+                    .nth(1)
+                    .and_then(|v| v.parse().ok())
+                    .expect("a number")
+            })
+            .collect();
         assert!(
-            lines[1].ends_with(&told) && told.contains(" sigma on the samples"),
+            (0.2..=1.6).contains(&cut[0])
+                && (0.3..=1.5).contains(&cut[1])
+                && (0.04..=0.2).contains(&cut[2]),
             "{text}"
         );
-        assert_eq!(lines.len(), 4 + shown, "{text}");
+        let told = format!("{}{}", verdict(&outcome), separation_text(&outcome));
+        assert!(
+            lines[2].ends_with(&told) && told.contains(" sigma on the samples"),
+            "{text}"
+        );
+        assert_eq!(lines.len(), 5 + shown, "{text}");
         let raised = lines.iter().filter(|l| l.contains(", breakage (")).count();
         assert_eq!(raised, 1, "{text}");
     }

@@ -228,8 +228,9 @@ enum Command {
         monitor_lag_s: Option<f32>,
         /// Trace one case instead of running the sets: `KIND:INDEX` as the goal's list
         /// names it ("seed 10794 break 16" is `--seed 10794 --case break:16`). Prints the
-        /// case, what came of it (for a damage, its separation by the deadline as in the
-        /// goal's list), and its tooth records around the damage (or the first alarm):
+        /// case, its cut at the damage (the true R_r, R_a and t_c), what came of it (for a
+        /// damage, its separation by the deadline as in the goal's list), and its tooth
+        /// records around the damage (or the first alarm):
         /// forces measured and true, flutes intact, estimate, the hand-over inside the
         /// period (`ho_z`, sigma), the drop trip armed for the next period, status and
         /// alarm.

@@ -26,7 +26,7 @@ use estimator_core::alarm::Cause;
 use estimator_core::monitor::RECORD_WORDS;
 use estimator_core::Sample;
 use firmware::config::BoardConfig;
-use firmware::telemetry::{decode, DecodeStats, RecordFrame};
+use firmware::telemetry::{decode, DecodeStats, EventFields, RecordFrame};
 use host_sim::replay::{load_monitor_config, replay_to, RecordFormat, ReplayOutputs};
 use host_sim::sim::Scenario;
 use host_sim::trace::{decode_samples, write_sample_bin, TraceReader};
@@ -110,6 +110,9 @@ pub struct HostRecord {
     pub latched: bool,
     /// The event it raised.
     pub event: Option<Cause>,
+    /// That event as its telemetry frame carries it: the value, the threshold it crossed
+    /// and how many samples before the record's end the output latched.
+    pub event_fields: Option<EventFields>,
 }
 
 /// The core's pipeline over `samples` with the configuration the firmware runs: the
@@ -126,6 +129,7 @@ pub fn host_pipeline(sample_rate_hz: f32, samples: &[Sample]) -> Vec<HostRecord>
             words: r.to_words(),
             latched: a.latched,
             event: a.event.map(|e| e.cause),
+            event_fields: a.event.as_ref().map(EventFields::from),
         })
         .collect()
 }
