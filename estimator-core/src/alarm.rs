@@ -160,8 +160,11 @@
 //!     tooth's is armed at 0.3 and 4 sigma_R too (3 flutes or more): where arcs are wider
 //!     than a pitch no boundary falls between cuts, the broken flute's cut begins in the
 //!     window before the one that lost most, and so does its next pass, and the loss seen
-//!     there is the newest tooth's loss that a strong pair lets pass (where no estimate
-//!     tells the span; where one does, the wide cut's rule). In the revolution
+//!     there is the newest tooth's loss that a strong pair lets pass (where nothing tells
+//!     the span; where an estimate does, the wide cut's rule, and without one where the
+//!     hand-over stage's bins show no quiet stretch in the period, `SPAN_SHARE`,
+//!     the same rule with the exit of the widest arcs: over `R_r` 0.3 to 2 the largest
+//!     share a travel takes, `geometry::widest_exit_loss_share`). In the revolution
 //!     after a moved window, where the records' history crosses the move, the pair is
 //!     taken from the hand-over stage's re-cut profiles (each tooth's first period since
 //!     the move against its profile): the loss and the gain as above, or, after the odd
@@ -650,6 +653,8 @@ pub struct AlarmState {
     /// The last record's change from its re-cut profile as a watched force [N] (NaN: none;
     /// `-INFINITY`: the moved window's odd period, whose loss is not measured).
     recut_last_n: f32,
+    /// The hand-over stage's `span_share` before this record (NaN: not known).
+    pub(crate) span_share: f32,
     /// `handed` came from re-cut profiles (`Alarms::handed_after_move`).
     handed_recut: bool,
 }
@@ -716,6 +721,7 @@ impl Default for AlarmState {
             handed_strong: false,
             recut_last_n: f32::NAN,
             handed_recut: false,
+            span_share: f32::NAN,
         }
     }
 }
@@ -1005,6 +1011,12 @@ impl AlarmState {
         self.trip_whole_share
     }
 
+    /// The hand-over stage's measure of the cut's span
+    /// ([`crate::handover::HandoverState::span_share`]).
+    pub fn span_share(&self) -> f32 {
+        self.span_share
+    }
+
     /// Where the drop trip is armed in the first revolution after a moved window: the
     /// loss per tooth since the move it allows [N] (`INFINITY` elsewhere).
     pub fn trip_quiet_n(&self) -> f32 {
@@ -1060,6 +1072,14 @@ impl AlarmState {
         self.hist_tooth.get(self.slot(k)).copied().unwrap_or(0)
     }
 }
+
+/// Without an estimate, a cut spans more than a pitch where the hand-over stage's
+/// `span_share` passes this: the least bin of the tooth's profile (the lag undone) carries
+/// a tenth of a bin's share of the tooth's force. On the breaks of seeds 12225-12232 (881
+/// cuts) every cut within 0.95 of a pitch (its arc and the helix's lag over the depth)
+/// measured under it, every one past 1.15 over it (host-sim's ignored test
+/// `the_span_share_measures_the_span_of_the_cut`).
+pub const SPAN_SHARE: f32 = 0.1;
 
 /// Record flags that make a tooth's force unusable: no cut, or bad data.
 const BAD_DATA: Status = Status(
@@ -1737,10 +1757,11 @@ impl Alarms {
                 // first tooth right after a noise pair that passed as evidence. The
                 // newest tooth's loss may be the broken flute's cut where it begins, in the
                 // window before: where the cut spans more than a pitch (known from an
-                // estimate) and the newest window is the one before the handed tooth's (seed
+                // estimate, or measured on the window's bins without one,
+                // `spans_windows`) and the newest window is the one before the handed tooth's (seed
                 // 2352 break 45, 4 flutes, `R_r` 1.41, that window lost 25 % and the handed
                 // one 59 %; the share then covers an exit that took the newest tooth's
-                // loss), and after a strong pair where no estimate tells the span (seeds 20
+                // loss), and after a strong pair where nothing tells the span (seeds 20
                 // break 0 and 69 break 57). Not after a strong pair on an arc known to lie
                 // within a pitch: seed 9859 normal 9, 4 flutes at `R_r` 0.61, a pair of 6.1
                 // sigma_R by noise, then an exit's first teeth; the newest lost 3 sigma_R
@@ -2174,12 +2195,14 @@ impl Alarms {
         }
     }
 
-    /// The cut spans more than a pitch (`exit_wide`, from the last valid estimate) with 3
-    /// flutes or more: a flute's cut begins in the window before its own, and a loss there
-    /// may be a broken flute's next pass rather than an exit's first tooth.
+    /// The cut spans more than a pitch (`exit_wide`, from the last valid estimate; without
+    /// one, the window's bins show no quiet stretch, `span_share` over
+    /// [`SPAN_SHARE`]) with 3 flutes or more: a flute's cut begins in the window
+    /// before its own, and a loss there may be a broken flute's next pass rather than an
+    /// exit's first tooth.
     #[inline(always)]
     fn spans_windows(&self, st: &AlarmState) -> bool {
-        self.n >= 3 && st.exit_wide > 0.0
+        self.n >= 3 && (st.exit_wide > 0.0 || st.held.is_none() && st.span_share > SPAN_SHARE)
     }
 
     /// Whether no run of the newest teeth lost force from one revolution earlier: every
@@ -2257,9 +2280,7 @@ impl Alarms {
         if !kept {
             let x = 2.0 * tc_mm / self.est.tool.radius_mm;
             st.exit_share = if rr < 0.0 {
-                // The largest share over `R_r`, at `R_r = 1 + q`.
-                let q = libm::sqrtf(crate::fmath::max(x * (2.0 - x), 0.0));
-                2.0 * q / (1.0 + q)
+                crate::geometry::widest_exit_loss_share(x)
             } else {
                 crate::geometry::exit_loss_share(rr, x)
             };
@@ -2333,8 +2354,13 @@ impl Alarms {
         } else {
             st.exit_share
         };
-        if let Some(bound) =
-            checked.filter(|_| rr >= 0.0 && (evidence.is_some() || exit + noise > least))
+        // Without an estimate, where the window's bins show a cut wider than a pitch
+        // (`spans_windows`), the exit is bounded as for the widest arcs: over `R_r` from 1
+        // to 2, the travel that takes a share and the share a travel takes are largest at
+        // the ends and at `1 + q` (`geometry::widest_exit_loss_share`).
+        let unknown_wide = rr < 0.0 && self.spans_windows(st);
+        if let Some(bound) = checked
+            .filter(|_| (rr >= 0.0 || unknown_wide) && (evidence.is_some() || exit + noise > least))
         {
             // The newest tooth lost `bound` sigma_R (its own loss for the plain trip, the
             // bound `kept` checked after a pair): an exit already under way took at most
@@ -2342,7 +2368,14 @@ impl Alarms {
             // that share, and one feed more by the next period's end.
             let hidden = (bound + TRIP_QUIET_SIGMAS) * sigma_r / st.force(self.n);
             let feed = tc_mm / self.est.tool.radius_mm;
-            let travel = crate::geometry::exit_travel(rr, hidden);
+            let travel = crate::geometry::exit_travel(
+                if unknown_wide {
+                    crate::geometry::RR_MAX
+                } else {
+                    rr
+                },
+                hidden,
+            );
             let x = if under_way {
                 travel
             } else {
@@ -2359,13 +2392,26 @@ impl Alarms {
             } else {
                 1.0
             };
-            let next_x = x + feed * (ahead + st.exit_wide);
-            let reach = crate::geometry::exit_loss_share(rr, next_x);
+            let (wide, reach_at) = if unknown_wide {
+                (1.0, 1.0)
+            } else {
+                (st.exit_wide, 0.0)
+            };
+            let next_x = x + feed * (ahead + wide);
+            let reach = if reach_at > 0.0 {
+                crate::geometry::widest_exit_loss_share(next_x)
+            } else {
+                crate::geometry::exit_loss_share(rr, next_x)
+            };
             // (After a pair, that reach whatever the two-feed exit: where that is under
             // EVIDENCE_SHARE, a heavy flute's chip reaching further was cut back to it.
             // Seed 3804 normal 11: a noise pair, then an exit; the handed tooth, 17 % over
-            // the revolution's mean, lost 30 % against 0.30; its reach asks 0.32.)
-            exit = if evidence.is_some() {
+            // the revolution's mean, lost 30 % against 0.30; its reach asks 0.32.) Without
+            // an estimate the widest arcs' two-feed exit already bounds every reach of an
+            // exit not under way (its next flute's chip under two feeds): the bound comes in
+            // only where the exit may be past that (seeds 12225-12608 with it in everywhere:
+            // 4-6 chips a block of 96 seeds later than a revolution that were not).
+            exit = if evidence.is_some() && !unknown_wide {
                 reach
             } else {
                 crate::fmath::min(exit, reach)
@@ -4291,6 +4337,44 @@ mod tests {
         assert!(floor.is_infinite(), "{floor}");
         // (Without the loss both are armed.)
         assert!(arming(0.3, 0.0).0.is_finite());
+    }
+
+    /// Without an estimate (a feed under the calibrated range) the span is the hand-over
+    /// stage's measure: where the window's bins show no quiet stretch (`span_share` over
+    /// [`SPAN_SHARE`]) the broken flute's next cut begins in the window before the
+    /// handed tooth's, as with an estimate wider than a pitch, and after the pair and that
+    /// window's loss the handed tooth's period is armed at the widest arcs' exit that the
+    /// loss shows, a feed and the next flute's reach further (seeds 12523 break 1 and 12535
+    /// break 105: 4 flutes at 0.07 and 0.05 mm a tooth, `R_r` 1.53 and 1.43; 1.28 and 1.29
+    /// revolutions late when the loss disarmed the trip, now 0.98 and 0.94). With a quiet
+    /// stretch, or nothing measured, that loss is an exit's first tooth: not armed.
+    #[test]
+    fn without_an_estimate_the_measured_span_keeps_the_evidence() {
+        let (a, _, feed) = wide_arc();
+        let arming = |edge: f32, newest: f32| {
+            let mut st = AlarmState::default();
+            for (i, &fx) in forces(1.0, 40, &[0.0, -5.0, 5.0, 0.0, newest])
+                .iter()
+                .enumerate()
+            {
+                st.span_share = edge;
+                let rec = record(i, fx, Status::TC_OUT_OF_RANGE);
+                assert!(a.process(&mut st, &rec).event.is_none(), "record {i}");
+            }
+            (st.trip_floor_n(), st.trip_share())
+        };
+        let (floor, share) = arming(0.3, -8.0);
+        assert!(
+            floor.is_finite() && share <= TRIP_MAX_SHARE,
+            "{floor} {share}"
+        );
+        let shown = crate::geometry::exit_travel(crate::geometry::RR_MAX, 8.0 / 130.0);
+        let least = crate::geometry::widest_exit_loss_share(shown + 2.0 * feed);
+        assert!(share >= least, "{share}: {least}");
+        for edge in [0.05, f32::NAN] {
+            assert!(arming(edge, -8.0).0.is_infinite(), "{edge}");
+            assert!(arming(edge, 0.0).0.is_finite(), "{edge}");
+        }
     }
 
     /// Where a cut spans more than a pitch a flute's cut begins in the window before its

@@ -4,7 +4,7 @@
 //!
 //! The hand-over stage's drop trip runs here too, through a current loop's lag with the
 //! lag allowed for, not, and half (the lag's terms: `Handover::lagged`'s `expf`, each
-//! close's plateau and the trip's share corrected).
+//! close's plateau, the trip's share corrected and the span measured with the lag undone).
 //!
 //! Why it can differ at all: f32 arithmetic is IEEE on both, and `libm` is pure Rust, but a
 //! compiler that fused a multiply-add or a target that used a different `sqrt` would change
@@ -51,8 +51,9 @@ const HAND_BREAK_AT: [u32; 2] = [30, 0];
 /// the period); or, `up`, a ramp over the period's second half to its end (up milling's
 /// thickest chip last), the trip armed at 0.9, which the period's bins before its last
 /// never lose: it trips on the whole period at its close, the lag's plateau terms in it.
-/// Each period's close hands the measured hand-over and the noise figure; a trip its loss,
-/// its limit and the sample it came at.
+/// Each period's close hands the measured hand-over, the noise figure and the span measured
+/// ([`crate::handover::Handover::measure_span`]); a trip its loss, its limit and the sample
+/// it came at.
 fn handover_case(tau: f32, told: f32, up: bool, out: &mut impl FnMut(&[u32])) {
     use crate::handover::{Handover, HandoverState, Period, BINS};
     let h = Handover::new(HAND_TEETH, true, true, true).lagged(told);
@@ -93,7 +94,8 @@ fn handover_case(tau: f32, told: f32, up: bool, out: &mut impl FnMut(&[u32])) {
                 let share = if up { 0.9 } else { 0.4 };
                 // (The closed period's tangential force: its mean, nothing cut being 0.)
                 h.arm_trip(&mut st, t, last_mean, share, 0.0, f32::INFINITY, share);
-                for v in [z, amount, st.change_var_n2()] {
+                h.measure_span(&mut st, t, last_mean);
+                for v in [z, amount, st.change_var_n2(), st.span_share()] {
                     if let Some(slot) = buf.get_mut(n) {
                         *slot = v.to_bits();
                         n += 1;
@@ -216,7 +218,7 @@ mod tests {
         let trips = all
             .iter()
             .enumerate()
-            .filter(|(k, b)| b.len() == if *k > 0 { 6 } else { 3 })
+            .filter(|(k, b)| b.len() == if *k > 0 { 7 } else { 3 })
             .map(|(k, b)| (k, b[b.len() - 1]))
             .collect();
         (all, trips)

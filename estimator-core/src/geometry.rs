@@ -179,6 +179,15 @@ pub fn exit_loss_share(rr: f32, x: f32) -> f32 {
     crate::fmath::min((q + crate::fmath::min(q, rr - 1.0)) / rr, 1.0)
 }
 
+/// The largest [`exit_loss_share`] over `R_r` from 1 to 2 at a travel `x`: at `R_r = 1 + q`,
+/// `q = sqrt(1 - (1 - x)^2)`, both halves of the arc losing alike, `2 q / (1 + q)`.
+/// (Out of line: the drop trip's share calls it twice.)
+#[inline(never)]
+pub fn widest_exit_loss_share(x: f32) -> f32 {
+    let q = libm::sqrtf(crate::fmath::max(x * (2.0 - x), 0.0));
+    2.0 * q / (1.0 + q)
+}
+
 /// The travel `x` (in radii past the arc's far reach) at which an exit through a face has
 /// taken `share` of the cut's force: the inverse of [`exit_loss_share`] (0 for a share of
 /// 0 or less, the whole reach for 1 or more).
@@ -338,5 +347,43 @@ mod tests {
         }
         assert_eq!(exit_travel(1.2, 0.0), 0.0);
         assert_eq!(exit_travel(0.5, -1.0), 0.0);
+    }
+
+    /// The widest arcs' exit bounds every arc's: over `R_r` from 1 to 2, the share a
+    /// travel takes is largest at `1 + q`; and combined with the travel a shown loss allows
+    /// (largest at `R_r` 1 and 2, `exit_travel(RR_MAX, h)`) and a further travel `f`, the
+    /// reach bounds every arc's from `R_r` 0.3 (where it is under the drop trip's largest
+    /// share, 0.9), on a grid of losses shown (0 to 0.9) and further travels (0.01 to 0.2
+    /// radii: a feed of 0.04-0.2 mm on radii of 4-8 mm, twice). Narrower arcs can pass it
+    /// (`R_r` 0.2: by 0.02): a cut measured wider than a pitch has them only with a
+    /// helix's lag over 0.77 rad on 4 flutes.
+    #[test]
+    fn the_widest_arcs_exit_bounds_the_others() {
+        let grid =
+            |n: usize, lo: f32, hi: f32| (0..=n).map(move |i| lo + (hi - lo) * i as f32 / n as f32);
+        for x in grid(100, 0.0, 1.0) {
+            let widest = widest_exit_loss_share(x);
+            for rr in grid(100, 1.0, 2.0) {
+                assert!(exit_loss_share(rr, x) <= widest + 1e-5, "{rr} {x}");
+            }
+        }
+        let excess = |lo: f32| {
+            let mut most = f32::NEG_INFINITY;
+            for h in grid(45, 0.0, 0.9) {
+                for f in grid(19, 0.01, 0.2) {
+                    let bound = widest_exit_loss_share(exit_travel(RR_MAX, h) + f);
+                    if bound > 0.9 {
+                        continue;
+                    }
+                    for rr in grid(170, lo, 2.0) {
+                        let reach = exit_loss_share(rr, exit_travel(rr, h) + f);
+                        most = most.max(reach - bound);
+                    }
+                }
+            }
+            most
+        };
+        assert!(excess(0.3) <= 1e-5, "{}", excess(0.3));
+        assert!(excess(0.2) > 0.01, "{}", excess(0.2));
     }
 }

@@ -97,6 +97,16 @@
 //! 12225-12320, BENCHMARKS.md). A pass over four bins a period; none of it where the lag is
 //! not set (0).
 //!
+//! # Span
+//! Whether a cut is wider than a pitch (no boundary between cuts: each window holds the end
+//! of one flute's cut and the start of the next's), where no estimate tells it (a feed
+//! under the calibrated range): [`HandoverState::span_share`], the least bin of the open
+//! tooth's reference profile above the signal's level with nothing cut, as a share of a
+//! bin's part of the tooth's force, the lag undone on each bin from its neighbours, and
+//! averaged over the teeth (weight a quarter). A cut with a quiet stretch measures near 0,
+//! one that spans the period the overlap of two cuts ([`crate::alarm::SPAN_SHARE`]).
+//! A pass over the bins a tooth.
+//!
 //! Only between usable periods in tooth order (no lost pulse, feed change, bad data or
 //! air: any of them forgets every tooth's profile; a moved window re-cuts them at the new
 //! boundary, [`Handover::realign`], so that the drop trip is not blind for the revolution
@@ -302,6 +312,8 @@ pub struct HandoverState {
     /// The change at the open period's start (the closed period's last bins'), for the
     /// current loop's lag (the module's "Current-loop lag").
     lag_start: f32,
+    /// The least bin's share of the tooth's force (`HandoverState::span_share`); NaN: not known.
+    span_share: f32,
 }
 
 impl HandoverState {
@@ -320,6 +332,16 @@ impl HandoverState {
     /// further off the tracked times than two pulses' jitter apart ([`LAG_JITTER_SAMPLES`]).
     pub fn lag_quiet(&self) -> u8 {
         self.lag_quiet
+    }
+
+    /// How much the least bin of a tooth's profile carries, as a share of a bin's part of
+    /// the tooth's force above the level with nothing cut (the lag undone; averaged over the
+    /// teeth, weight a quarter): near 0 where the period has a quiet stretch, the overlap of
+    /// two cuts where a cut spans the period (arcs wider than a pitch); NaN where not known
+    /// (not measured since the profiles were forgotten: the monitor measures it only on
+    /// records without a valid estimate, [`Handover::measure_span`]).
+    pub fn span_share(&self) -> f32 {
+        self.span_share
     }
 
     /// The variance of a whole period's change from its tooth's a revolution earlier on
@@ -380,6 +402,7 @@ impl Default for HandoverState {
             moved_n: 0,
             recut: f32::NAN,
             lag_start: 0.0,
+            span_share: f32::NAN,
         }
     }
 }
@@ -656,8 +679,56 @@ impl Handover {
         Self::bin_limit(st);
     }
 
+    /// [`HandoverState::span_share`]'s step after the period of tooth `closed` (of
+    /// tangential force `ft_n`, as [`Handover::arm_trip`] takes it): the open tooth's last
+    /// period's least bin above the level with nothing cut, of its sum above that level.
+    /// The monitor measures it only where the record has no valid estimate (the alarms
+    /// ask it only then): a pass over the bins.
+    #[inline(never)]
+    pub fn measure_span(&self, st: &mut HandoverState, closed: u8, ft_n: f32) {
+        let open = st.open as usize;
+        let (Some(l), Some(&total), Some(&before)) = (
+            st.last.get(open),
+            st.last_sum.get(open),
+            st.last_sum.get(closed as usize),
+        ) else {
+            return;
+        };
+        if !self.on || st.per_unit_n <= 0.0 || st.filled & (1u8.wrapping_shl(open as u32)) == 0 {
+            return;
+        }
+        // As the trip's content: above the closed period's mean less its tangential force.
+        let content = total - before + ft_n * BINS as f32 / st.per_unit_n;
+        // Through the lag a bin's mean lacks `g` times its level's change over it: from the
+        // bins either side (the profile taken round: the tooth's own bins stand for its
+        // neighbours').
+        let d = 0.5 * self.lag_g / st.bin_len;
+        let mut least = f32::INFINITY;
+        let mut before = l.last().copied().unwrap_or(0.0);
+        // (A loop: unrolled it cost the board 0.3 KiB of flash.)
+        for k in 0..core::hint::black_box(BINS) {
+            let here = l.get(k).copied().unwrap_or(0.0);
+            let next = l.get(k + 1).or(l.first()).copied().unwrap_or(0.0);
+            let x = here + d * (next - before);
+            least = if x < least { x } else { least };
+            before = here;
+        }
+        // (`total - content` is the level with nothing cut, in sums over the bins.)
+        let share = (least * BINS as f32 - (total - content)) / content;
+        if share.is_finite() {
+            // (From NaN, not known: the first share itself.)
+            let was = if st.span_share.is_nan() {
+                share
+            } else {
+                st.span_share
+            };
+            st.span_share = was + 0.25 * (share - was);
+        }
+    }
+
     /// Every tooth's profile forgotten (the changes since a move with them).
     fn forget(st: &mut HandoverState) {
+        st.span_share = f32::NAN;
         st.filled = 0;
         st.recut_rows = 0;
         st.moved_n = 0;
@@ -728,6 +799,7 @@ impl Handover {
                     .iter_mut()
                     .zip(last.iter())
                     .zip(st.acc.iter().zip(&st.cnt))
+                    .take(core::hint::black_box(BINS))
                 {
                     if k > 0 {
                         mean = a / k as f32;
@@ -1371,12 +1443,18 @@ mod tests {
             .collect()
     }
 
-    /// The limit the drop trip is armed with for period `k` (in sums over the bins), `share`
-    /// of the open tooth's force, `periods` fed as [`feed_off`] feeds them up to its start.
-    fn armed_limit(h: Handover, periods: &[Vec<f32>], share: f32, k: usize) -> f32 {
+    /// Feeds `periods` as [`feed_off`] feeds them (every boundary on the tracked times); at
+    /// each period's start, once the stage knows the closed period's length, `at(st, j,
+    /// t, ft)` (period `j` opens, tooth `t`'s closed with a mean of `ft`), whose `false`
+    /// ends the walk. The state at its end.
+    fn walk(
+        h: Handover,
+        periods: &[Vec<f32>],
+        mut at: impl FnMut(&mut HandoverState, usize, u8, f32) -> bool,
+    ) -> HandoverState {
         let mut st = HandoverState::default();
         let mut step = 0u32;
-        for (j, p) in periods.iter().enumerate().take(k + 1) {
+        for (j, p) in periods.iter().enumerate() {
             let closed = (j > 0).then(|| ((j - 1) % N as usize) as u8);
             if j > 0 {
                 step = bin_step(periods[j - 1].len() as u32);
@@ -1387,17 +1465,30 @@ mod tests {
                 if let (0, Some(t)) = (pos, closed) {
                     h.period_start(&mut st, 0.0, 0.0);
                     h.period_len(&mut st, periods[j - 1].len() as u32);
-                    h.measure(&mut st, t, Period::Cut { steady: true }, 1.0);
                     let prev = &periods[j - 1];
                     let ft = prev.iter().sum::<f32>() / prev.len() as f32;
-                    h.arm_trip(&mut st, t, ft, share, 0.0, f32::INFINITY, f32::INFINITY);
-                    if j == k {
-                        return st.trip;
+                    if !at(&mut st, j, t, ft) {
+                        return st;
                     }
                 }
             }
         }
-        f32::NAN
+        st
+    }
+
+    /// The limit the drop trip is armed with for period `k` (in sums over the bins), `share`
+    /// of the open tooth's force, `periods` fed as [`feed_off`] feeds them up to its start.
+    fn armed_limit(h: Handover, periods: &[Vec<f32>], share: f32, k: usize) -> f32 {
+        let st = walk(h, periods, |st, j, t, ft| {
+            h.measure(st, t, Period::Cut { steady: true }, 1.0);
+            h.arm_trip(st, t, ft, share, 0.0, f32::INFINITY, f32::INFINITY);
+            j != k
+        });
+        if periods.len() > k {
+            st.trip
+        } else {
+            f32::NAN
+        }
     }
 
     /// A current loop's lag bleeds the end of one window into the start of the next: in a
@@ -1440,6 +1531,58 @@ mod tests {
             "{unallowed} against {truth}: the share of the bleed {}",
             share * bleed
         );
+    }
+
+    /// `span_share` after `periods` fed as [`feed_off`] feeds them, the trip armed and the
+    /// span measured after each; the 11th period unusable where `forget`.
+    fn span_after(h: Handover, periods: &[Vec<f32>], forget: bool) -> f32 {
+        let st = walk(h, periods, |st, j, t, ft| {
+            let period = if forget && j == 11 {
+                Period::Unusable
+            } else {
+                Period::Cut { steady: true }
+            };
+            h.measure(st, t, period, 1.0);
+            h.arm_trip(st, t, ft, 0.3, 0.0, f32::INFINITY, f32::INFINITY);
+            h.measure_span(st, t, ft);
+            true
+        });
+        st.span_share()
+    }
+
+    /// The span share tells a cut with a quiet stretch in its period from one that spans
+    /// it, through a current loop's lag: a chip rising to 20 units over 40 of 48 samples
+    /// and dropping to nothing (up milling's steep exit, a gap of 8 samples), lagged by 4
+    /// samples, measures under 0.1 with the lag allowed for, and over it without (the lag's
+    /// tail over the gap reads as a cut); the same chip with 5 units more all through the
+    /// period (one flute's cut overlapping the next's: no quiet stretch, a cut wider than
+    /// a pitch) over 0.3 (5.5 units at least, of a bin's mean of 13.5). Nothing measured,
+    /// or the profiles forgotten since: NaN.
+    #[test]
+    fn the_span_share_tells_a_gap_from_a_cut_that_spans_it() {
+        let chip = |i: usize| {
+            if i < 40 {
+                20.0 * (i + 1) as f32 / 40.0
+            } else {
+                0.0
+            }
+        };
+        let cut = |overlap: f32| -> Vec<Vec<f32>> {
+            (0..30 * N as usize)
+                .map(|_| (0..LEN).map(|i| chip(i) + overlap).collect())
+                .collect()
+        };
+        let tau = 4.0;
+        let (gapped, spanning) = (lagged(&cut(0.0), tau), lagged(&cut(5.0), tau));
+        let h = Handover::new(N, true, true, true);
+        let told = span_after(h.lagged(tau), &gapped, false);
+        let untold = span_after(h, &gapped, false);
+        let spans = span_after(h.lagged(tau), &spanning, false);
+        assert!(told.abs() < 0.1, "{told}");
+        assert!(untold > 0.1, "{untold}");
+        assert!(spans > 0.3, "{spans}");
+        assert!(span_after(h, &gapped[..1], false).is_nan());
+        assert!(span_after(h.lagged(tau), &gapped[..12], true).is_nan());
     }
 
     /// At the period's close the whole period counts, its last bin too (inside the period

@@ -481,6 +481,12 @@ impl MonitorState {
         self.hand.lag_quiet()
     }
 
+    /// The least bin's share of the tooth's force ([`HandoverState::span_share`]).
+    #[inline(always)]
+    pub(crate) fn span_share(&self) -> f32 {
+        self.hand.span_share()
+    }
+
     /// The drop trip's channel's noise ([`HandoverState::change_var_n2`]).
     #[inline(always)]
     pub(crate) fn change_var_n2(&self) -> f32 {
@@ -749,6 +755,11 @@ impl Monitor {
             quiet_n,
             whole_share,
         );
+        // (The alarms ask the span measured only without an estimate.)
+        if !rec.status.is_valid() {
+            self.handover
+                .measure_span(&mut st.hand, rec.tooth, rec.f2_n);
+        }
     }
 
     /// The drop trip passed in the open period at sample `s`: `(lost, limit)` [N]. Not
