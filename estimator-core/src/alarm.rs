@@ -1075,9 +1075,9 @@ impl AlarmState {
 
 /// Without an estimate, a cut spans more than a pitch where the hand-over stage's
 /// `span_share` passes this: the least bin of the tooth's profile (the lag undone) carries
-/// a tenth of a bin's share of the tooth's force. On the breaks of seeds 12225-12232 (881
-/// cuts) every cut within 0.95 of a pitch (its arc and the helix's lag over the depth)
-/// measured under it, every one past 1.15 over it (host-sim's ignored test
+/// a tenth of a bin's share of the tooth's force. On the 684 break cases without an estimate
+/// of seeds 12225-12240, every cut within 0.95 of a pitch (its arc and the helix's lag over
+/// the depth) measured under it, every one past 1.15 over it (host-sim's ignored test
 /// `the_span_share_measures_the_span_of_the_cut`).
 pub const SPAN_SHARE: f32 = 0.1;
 
