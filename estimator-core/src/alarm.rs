@@ -2392,13 +2392,9 @@ impl Alarms {
             } else {
                 1.0
             };
-            let (wide, reach_at) = if unknown_wide {
-                (1.0, 1.0)
-            } else {
-                (st.exit_wide, 0.0)
-            };
+            let wide = if unknown_wide { 1.0 } else { st.exit_wide };
             let next_x = x + feed * (ahead + wide);
-            let reach = if reach_at > 0.0 {
+            let reach = if unknown_wide {
                 crate::geometry::widest_exit_loss_share(next_x)
             } else {
                 crate::geometry::exit_loss_share(rr, next_x)
