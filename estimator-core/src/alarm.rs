@@ -2343,14 +2343,14 @@ impl Alarms {
             };
             (
                 TRIP_SHARE,
-                // (Inside the period the trip channel's own noise where it is the narrower
-                // (the feed force's noise is most of the resultant's): seeds 12421 break
-                // 6, 12465 break 119 and 12488 break 82 within a revolution with it. Where
-                // it is the wider, the close asks it: inside, with it, seed 12276 break 107
-                // was missed, its period 0.77 down against 0.80.)
+                // Inside the period, the trip channel's own noise where it is measured and
+                // the narrower, the feed force's noise being most of the resultant's (seeds
+                // 12421 break 6, 12465 break 119 and 12488 break 82 within a revolution with
+                // it). Where it is the wider only the close asks it: inside too, seed 12276
+                // break 107 was missed, its period 0.77 down against 0.80.
                 sigmas
-                    * if sigma_t > 0.0 {
-                        crate::fmath::min(sigma_t, sigma_r)
+                    * if sigma_t > 0.0 && sigma_t < sigma_r {
+                        sigma_t
                     } else {
                         sigma_r
                     }
