@@ -67,7 +67,11 @@
 //!   tooth down and the next up. Those of them that compare the newest revolution with
 //!   the one before alone decide too where every boundary they compare lies where its
 //!   tooth's did a revolution earlier, to the jitter (the hand-over stage's `lag_quiet`):
-//!   the lag has caught up, while the lengths still differ from 16 teeth earlier.
+//!   the lag has caught up, while the lengths still differ from 16 teeth earlier. And
+//!   `E` decides where it passes its threshold by as much force as the boundaries of its
+//!   two newest periods may have moved (the hand-over stage's `boundary_moved_n`: the
+//!   level at each end of the tooth's profile over the shift): boundaries in the cut's
+//!   quiet stretch move a few newtons however far the lag swings.
 //!   - the hand-over inside the period ([`crate::handover`], the record's `handover_z`,
 //!     `handover_n`): a flute broken late in its cut loses only the rest of its chip, 5-20
 //!     % of a tooth's force, under the threshold above; over the angles after the break
@@ -1081,6 +1085,9 @@ impl AlarmState {
 /// `the_span_share_measures_the_span_of_the_cut`).
 pub const SPAN_SHARE: f32 = 0.1;
 
+/// No hand-over stage told how far a record's boundaries moved (`Alarms::process_with`).
+pub(crate) const NOT_TOLD: fn(usize) -> f32 = |_| f32::INFINITY;
+
 /// Record flags that make a tooth's force unusable: no cut, or bad data.
 const BAD_DATA: Status = Status(
     Status::NOT_CUTTING.0
@@ -1184,7 +1191,7 @@ impl Alarms {
     /// Feeds one record.
     #[inline(always)]
     pub fn process(&self, st: &mut AlarmState, rec: &ToothRecord) -> AlarmOutput {
-        self.process_with(st, rec, None, (f32::NAN, 0.0, 0), &mut NoProbe)
+        self.process_with(st, rec, None, (f32::NAN, 0.0, 0, &NOT_TOLD), &mut NoProbe)
     }
 
     /// [`Self::process`], telling `probe` where each stage ends (for the instruction-count
@@ -1196,7 +1203,7 @@ impl Alarms {
         rec: &ToothRecord,
         probe: &mut P,
     ) -> AlarmOutput {
-        self.process_with(st, rec, None, (f32::NAN, 0.0, 0), probe)
+        self.process_with(st, rec, None, (f32::NAN, 0.0, 0, &NOT_TOLD), probe)
     }
 
     /// Never inlined: one copy serves `process` and `Pipeline::process`.
@@ -1209,14 +1216,18 @@ impl Alarms {
     /// `trip_var_n2`: the noise of the channel the drop trip measures, as a variance
     /// ([`crate::handover::HandoverState::change_var_n2`]; 0: none); `lag_quiet`: the
     /// boundaries in a row that lie where their tooth's did a revolution earlier
-    /// ([`crate::handover::HandoverState::lag_quiet`]; 0: not known).
+    /// ([`crate::handover::HandoverState::lag_quiet`]; 0: not known);
+    /// `boundary_moved_n(back)`: how much tangential force [N] the boundaries of the
+    /// record `back` before `rec` (0: `rec`'s own) may have moved against its tooth's a
+    /// revolution earlier ([`crate::handover::Handover::boundary_moved_n`]; `INFINITY`: not
+    /// known, as [`NOT_TOLD`] says), asked only where a decision needs it.
     #[inline(never)]
     pub(crate) fn process_with<P: Probe>(
         &self,
         st: &mut AlarmState,
         rec: &ToothRecord,
         model_n: Option<[f32; 2]>,
-        (recut_n, trip_var_n2, lag_quiet): (f32, f32, u8),
+        (recut_n, trip_var_n2, lag_quiet, boundary_moved_n): (f32, f32, u8, &dyn Fn(usize) -> f32),
         probe: &mut P,
     ) -> AlarmOutput {
         let n = self.n;
@@ -1410,6 +1421,8 @@ impl Alarms {
                 // (`decision_var`).
                 let clip = k * measured;
                 let mut exceeded = false;
+                // `E` and its threshold where `E` raised first (the speed test below).
+                let mut e_raised = None::<(f32, f32)>;
                 let noise = self.decision_var(st, measured);
                 let (settled, e_var) = (noise.is_some(), noise.unwrap_or(st.e_var));
                 // Cheap screen first: the model threshold is only needed near the limit, and
@@ -1479,6 +1492,9 @@ impl Alarms {
                                 && neg != 0
                                 && count >= self.cfg.breakage.debounce_teeth as u32;
                             if both_signs || e.abs() > SINGLE_EXCEEDANCE * threshold {
+                                if raised_cell.get().is_none() {
+                                    e_raised = Some((e.abs(), threshold));
+                                }
                                 raise_one_rev(e.abs(), threshold);
                             }
                         }
@@ -1614,11 +1630,18 @@ impl Alarms {
                 // 93: 2 flutes 12 % slower, the break 9 teeth after the ramp; its first
                 // pair, `E` 4.9 times the threshold, taken back, and the alarm came 3.9
                 // revolutions late). Its records from `E`'s newest two and their ends:
-                // three boundaries, or the revolution's N and its end.
+                // three boundaries, or the revolution's N and its end. And `E` stands where
+                // it passes its threshold by what the boundaries of its two newest periods
+                // may have moved (`past_moved`): where they lie in the cut's quiet stretch,
+                // a few newtons however far the lag swings (seeds 12739 break 29 and 12793
+                // break 37: 2 flutes, 13 and 9 teeth after a ramp, `E` 3.3 and 4.3 times
+                // its threshold against 12 N moved; taken back, the trip came a revolution
+                // after the first missed cut).
                 let quiet = one_rev_cell.get() && usize::from(lag_quiet) > n.max(2);
                 if matches!(raised_cell.get(), Some((Cause::Breakage, ..)))
                     && !quiet
                     && !self.speed_settled(st)
+                    && !self.past_moved(e_raised, f / rec.f2_n, boundary_moved_n)
                 {
                     raised_cell.set(None);
                 }
@@ -2712,6 +2735,23 @@ impl Alarms {
         now.abs_diff(then) <= now / per.max(1) + 2
     }
 
+    /// Whether `E` raised (its value and threshold) past its threshold by as much as the
+    /// boundaries of its two teeth's newest periods may have moved (told by the hand-over
+    /// stage in tangential force; `scale`: the watched signal's per newton of it).
+    #[cold]
+    #[inline(never)]
+    fn past_moved(
+        &self,
+        e_raised: Option<(f32, f32)>,
+        scale: f32,
+        moved: &dyn Fn(usize) -> f32,
+    ) -> bool {
+        e_raised.is_some_and(|(e, threshold)| {
+            let m = (moved(0) + moved(1)) * libm::fabsf(scale);
+            e - m > threshold
+        })
+    }
+
     /// Whether the newest two revolutions are as long as the two from
     /// `SPEED_SETTLED_TEETH` teeth earlier (whole revolutions; `same_speed`): the spindle's
     /// speed has not changed for as long as the window's tracked pulse interval takes to
@@ -3361,7 +3401,13 @@ mod tests {
             for (i, &fx) in f.iter().enumerate() {
                 let rec = record(i, fx, Status::AMBIGUOUS);
                 let var_t = trip_sigma_n * trip_sigma_n;
-                a.process_with(&mut st, &rec, None, (f32::NAN, var_t, 0), &mut NoProbe);
+                a.process_with(
+                    &mut st,
+                    &rec,
+                    None,
+                    (f32::NAN, var_t, 0, &NOT_TOLD),
+                    &mut NoProbe,
+                );
             }
             st.trip_floor_n()
         };
@@ -3747,15 +3793,20 @@ mod tests {
     /// breakage raised there by a rule that compares the newest revolution with the one
     /// before stands where the caller tells that the boundaries it compares lie where their
     /// teeth's did a revolution earlier (`lag_quiet` past N, here 4: seed 6123 break 93, 3.9
-    /// revolutions late), and is taken back as before where they do not (not told, or
-    /// told of N alone). Tooth 1 hands 40 N to tooth 2 from 4 teeth after the spindle came
-    /// 3 samples a tooth faster over 8 teeth (10 %), and on, as
-    /// `a_speed_change_moves_force_between_windows_with_no_breakage`'s pattern.
+    /// revolutions late), or, raised by `E`, where `E` passes its threshold by what the
+    /// boundaries of its two newest periods may have moved (told by the hand-over stage:
+    /// seeds 12739 break 29 and 12793 break 37, 2 flutes, the next flute's gain 13 and 9
+    /// teeth after a ramp, an `E` of 3.3 and 4.3 thresholds taken back, and the trip a
+    /// revolution on). It is taken back as before where neither holds (not told, told of N
+    /// alone, told that the boundaries moved as much force as the pair's). Tooth 1 hands 40
+    /// N to tooth 2 from 4 teeth after the spindle came 3 samples a tooth faster over 8
+    /// teeth (10 %), and on, as `a_speed_change_moves_force_between_windows_with_no_breakage`'s
+    /// pattern; the force is 0.6 feed and 0.8 tangential.
     #[test]
     fn after_a_ramp_a_breakage_stands_where_the_boundaries_are_quiet() {
         let est = EstimatorConfig::default();
         let a = AlarmConfig::default().build(&est).unwrap();
-        let first_event = |quiet: u8| {
+        let first_event = |quiet: u8, moved: &dyn Fn(usize) -> f32| {
             let after: Vec<f32> = (0..8)
                 .flat_map(|_| [0.0, -40.0, 40.0, 0.0])
                 .skip(4)
@@ -3763,28 +3814,31 @@ mod tests {
             let f = forces(3.0, 40, &after);
             let mut st = narrow_arc(&a, 107.5);
             let from = f.len() - after.len() - 12;
-            f.iter().enumerate().position(|(i, &fx)| {
-                let mut rec = record(i, fx, Status::AMBIGUOUS);
+            f.iter().enumerate().position(|(i, &force)| {
+                let mut rec = record(i, 0.6 * force, Status::AMBIGUOUS);
+                rec.f2_n = 0.8 * force;
                 if i >= from {
                     faster(&mut rec, 3 * (i - from + 1).min(8) as u32);
                 }
-                let c = (f32::NAN, 0.0, quiet);
+                let c = (f32::NAN, 0.0, quiet, moved);
                 let out = a.process_with(&mut st, &rec, None, c, &mut NoProbe);
                 out.event.is_some()
             })
         };
         // The pair's gain is record `gain`; the alarm at once, or within the revolution.
         let gain = 40 * 4 + 2;
-        let quiet = first_event(5);
-        assert!(
-            quiet.is_some_and(|i| (gain..gain + 4).contains(&i)),
-            "{quiet:?}"
-        );
-        // Not told (the length test alone), or not quiet over the revolution: later, or
-        // never.
-        for q in [0, 4] {
-            let late = first_event(q);
-            assert!(late.is_none_or(|i| i >= gain + 4), "{q}: {late:?}");
+        let within = |at: Option<usize>| at.is_some_and(|i| (gain..gain + 4).contains(&i));
+        let quiet = first_event(5, &NOT_TOLD);
+        assert!(within(quiet), "{quiet:?}");
+        // Told of boundaries that moved 2 N of tangential force each (2.5 N of the signal):
+        // `E`, 80 N, stands.
+        let still = first_event(0, &|_| 2.0);
+        assert!(within(still), "{still:?}");
+        // Not told (the length test alone), or not quiet over the revolution, or told that
+        // each boundary moved 32 N (40 N of the signal, the pair's own): later, or never.
+        for (q, m) in [(0, f32::INFINITY), (4, f32::INFINITY), (0, 32.0)] {
+            let late = first_event(q, &|_| m);
+            assert!(late.is_none_or(|i| i >= gain + 4), "{q} {m}: {late:?}");
         }
     }
 
@@ -4274,7 +4328,13 @@ mod tests {
             };
             let out = match trip_sigma {
                 None => a.process(&mut st, &rec),
-                Some(s) => a.process_with(&mut st, &rec, None, (f32::NAN, s * s, 0), &mut NoProbe),
+                Some(s) => a.process_with(
+                    &mut st,
+                    &rec,
+                    None,
+                    (f32::NAN, s * s, 0, &NOT_TOLD),
+                    &mut NoProbe,
+                ),
             };
             assert!(out.event.is_none(), "{rr} {after:?}: record {i}");
         }
@@ -4752,7 +4812,7 @@ mod tests {
         raised: &mut Option<(usize, Cause)>,
     ) {
         let ev = a
-            .process_with(st, rec, None, (recut, 0.0, 0), &mut NoProbe)
+            .process_with(st, rec, None, (recut, 0.0, 0, &NOT_TOLD), &mut NoProbe)
             .event;
         if let (None, Some(e)) = (*raised, ev) {
             *raised = Some((i, e.cause));
@@ -5059,7 +5119,7 @@ mod tests {
             if i + 8 > at && i <= at {
                 faster(&mut rec, shorter);
             }
-            let c = (f32::NAN, 0.0, quiet);
+            let c: (f32, f32, u8, &dyn Fn(usize) -> f32) = (f32::NAN, 0.0, quiet, &NOT_TOLD);
             if let Some(e) = a.process_with(&mut st, &rec, None, c, &mut NoProbe).event {
                 return Some((i, e.cause));
             }

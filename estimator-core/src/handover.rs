@@ -314,6 +314,11 @@ pub struct HandoverState {
     lag_start: f32,
     /// The least bin's share of the tooth's force (`HandoverState::span_share`); NaN: not known.
     span_share: f32,
+    /// The samples by which the starts of the last closed period and of the one before
+    /// it may lie off the same tooth's a revolution earlier (their `jitter_bins`), and the
+    /// one before's length over `BINS` (`Handover::boundary_moved_n`).
+    start_shift: [f32; 2],
+    bin_len_before: f32,
 }
 
 impl HandoverState {
@@ -403,6 +408,8 @@ impl Default for HandoverState {
             recut: f32::NAN,
             lag_start: 0.0,
             span_share: f32::NAN,
+            start_shift: [0.0; 2],
+            bin_len_before: 0.0,
         }
     }
 }
@@ -452,6 +459,73 @@ impl Handover {
             0.0
         };
         Handover { lag_g, ..self }
+    }
+
+    /// How much of the force of the period closed `back` periods before the last (0: the
+    /// last, 1: the one before) its two boundaries may have moved out of it or into it
+    /// against the same tooth's period a revolution earlier, as a tangential force [N]
+    /// (`INFINITY` where not known: further back, no profile of that tooth, the stage
+    /// off).
+    ///
+    /// A boundary that lies `s` samples off where its tooth's did (the encoder's jitter,
+    /// the tracked times' lag after a speed ramp and its change, the periods' growth in
+    /// one: the closed period's `jitter_bins` at its start, the open one's at its end)
+    /// moves at most `s` samples of the level at that end: the most any bin within `s` of
+    /// it carries over the period's least bin (the level with nothing cut, where the
+    /// period has a quiet stretch). A boundary that moves by other than the other one
+    /// lengthens the period by their difference, which dilutes the mean by at most its
+    /// share of the mean's own height over the least bin: counted at both ends. Where a
+    /// window's boundaries lie in a quiet stretch, a few newtons; at a steep chip edge (a
+    /// cut that spans the period), a large part of the tooth. Measured on the tooth's
+    /// profile (its latest periods). Read only where a decision needs it: cold.
+    #[cold]
+    #[inline(never)]
+    pub fn boundary_moved_n(&self, st: &HandoverState, back: usize) -> f32 {
+        let n = self.teeth.max(1) as usize;
+        let t = (st.last_tooth as usize + n - back % n) % n;
+        // Its end is the next period's start: the open one's for the last period.
+        let (s_a, s_b, bin_len) = match back {
+            0 => (st.start_shift[0], st.jitter_bins * st.bin_len, st.bin_len),
+            1 => (st.start_shift[1], st.start_shift[0], st.bin_len_before),
+            _ => return f32::INFINITY,
+        };
+        let (true, Some(p)) = (self.on, st.last.get(t)) else {
+            return f32::INFINITY;
+        };
+        let ok =
+            st.filled & 1u8.wrapping_shl(t as u32) != 0 && st.per_unit_n > 0.0 && bin_len > 0.0;
+        if !ok {
+            return f32::INFINITY;
+        }
+        // (Loops the compiler keeps as loops, `black_box`: unrolled, 1.6 KiB of flash.)
+        let bins = core::hint::black_box(BINS);
+        let (mut lo, mut sum) = (f32::INFINITY, 0.0f32);
+        for &x in p.iter().take(bins) {
+            lo = fmath::min(lo, x);
+            sum += x;
+        }
+        let dilute = sum * (1.0 / BINS as f32) - lo;
+        // The most any of the `s` samples' bins at one end holds over `lo`, the bin the
+        // boundary lies in and the one past the reach.
+        let reach = |s: f32| (s / bin_len) as usize + 2;
+        let (first, last) = (reach(s_a), BINS.saturating_sub(reach(s_b)));
+        let (mut start, mut end) = (0.0f32, 0.0f32);
+        for (i, &x) in p.iter().enumerate().take(bins) {
+            if i < first {
+                start = fmath::max(start, x - lo);
+            }
+            if i >= last {
+                end = fmath::max(end, x - lo);
+            }
+        }
+        let moved = s_a * (start + dilute) + s_b * (end + dilute);
+        let moved_n = moved / (BINS as f32 * bin_len) * st.per_unit_n;
+        // (NaN from bad data: not known.)
+        if moved_n >= 0.0 {
+            moved_n
+        } else {
+            f32::INFINITY
+        }
     }
 
     /// One sample of the spindle channel in `bin` of the open period; `closed`: the sample
@@ -569,6 +643,7 @@ impl Handover {
         let tracked = l - st.closed_off;
         let ramp = fmath::max(libm::fabsf(tracked - st.len_before) - 1.0, 0.0);
         st.len_before = tracked;
+        st.bin_len_before = st.bin_len;
         st.bin_len = l * (1.0 / BINS as f32);
         st.jitter_bins = (JITTER_SAMPLES + st.shift + ramp) / st.bin_len;
     }
@@ -781,6 +856,7 @@ impl Handover {
     #[inline(never)]
     fn close(&self, st: &mut HandoverState, tooth: u8) {
         let slot = tooth as usize;
+        st.start_shift = [st.jitter_bins * st.bin_len, st.start_shift[0]];
         // The armed trip on the whole period: the last bin counts now that the period is
         // complete (inside it, a longer period's excess made it no bin of the same angles).
         let mut whole_lost = f32::NEG_INFINITY;
@@ -1181,6 +1257,40 @@ mod tests {
         feed_off(h, periods, &[], &[], unusable, trip, from, trip)
     }
 
+    /// Feeds the samples of `periods` (tooth `k % N`) through `h` the way the monitor does
+    /// (bins of the previous period's length; a closed period's successor starts `offs[k]`
+    /// samples off the pulses' tracked times and `lags[k]` samples after its pulse, none
+    /// listed: 0), calling `each(st, k, pos, closed)` after each sample (`closed`: the
+    /// tooth whose period it closed) until it returns false.
+    fn sample_through(
+        h: Handover,
+        periods: &[Vec<f32>],
+        offs: &[f32],
+        lags: &[f32],
+        mut each: impl FnMut(&mut HandoverState, usize, usize, Option<u8>) -> bool,
+    ) {
+        let mut st = HandoverState::default();
+        let mut step = 0u32;
+        for (k, p) in periods.iter().enumerate() {
+            for (pos, &x) in p.iter().enumerate() {
+                let closed = (pos == 0 && k > 0).then(|| ((k - 1) % N as usize) as u8);
+                if pos == 0 && k > 0 {
+                    step = bin_step(periods[k - 1].len() as u32);
+                }
+                let bin = (((pos as u64 * step as u64) >> 16) as usize).min(BINS - 1);
+                h.sample(&mut st, closed, bin, x);
+                if closed.is_some() {
+                    let at = |v: &[f32]| v.get(k).copied().unwrap_or(0.0);
+                    h.period_start(&mut st, at(offs), at(lags));
+                    h.period_len(&mut st, periods[k - 1].len() as u32);
+                }
+                if !each(&mut st, k, pos, closed) {
+                    return;
+                }
+            }
+        }
+    }
+
     /// [`feed_armed_from`], period `k`'s boundary `offs[k]` samples off the pulses'
     /// tracked times, and those `lags[k]` samples after its pulse (none listed: 0); the trip
     /// armed to judge the whole period at its close too, at the share `whole`.
@@ -1195,41 +1305,30 @@ mod tests {
         from: usize,
         whole: Option<f32>,
     ) -> (Vec<(f32, f32)>, Option<(usize, usize, f32)>) {
-        let mut st = HandoverState::default();
-        let mut out = Vec::new();
-        let mut step = 0u32;
-        for (k, p) in periods.iter().enumerate() {
-            for (pos, &x) in p.iter().enumerate() {
-                let closed = (pos == 0 && k > 0).then(|| ((k - 1) % N as usize) as u8);
-                if pos == 0 && k > 0 {
-                    step = bin_step(periods[k - 1].len() as u32);
-                }
-                let bin = (((pos as u64 * step as u64) >> 16) as usize).min(BINS - 1);
-                h.sample(&mut st, closed, bin, x);
-                if let Some(t) = closed {
-                    let at = |v: &[f32]| v.get(k).copied().unwrap_or(0.0);
-                    h.period_start(&mut st, at(offs), at(lags));
-                    h.period_len(&mut st, periods[k - 1].len() as u32);
-                    let period = if unusable.contains(&(k - 1)) {
-                        Period::Unusable
-                    } else {
-                        Period::Cut { steady: true }
-                    };
-                    out.push(h.measure(&mut st, t, period, 1.0));
-                    if let (Some(share), true) = (trip, k > from) {
-                        let prev = &periods[k - 1];
-                        let ft = prev.iter().sum::<f32>() / prev.len() as f32;
-                        let whole = whole.unwrap_or(f32::INFINITY);
-                        h.arm_trip(&mut st, t, ft, share, 0.0, f32::INFINITY, whole);
-                    }
-                }
-                if let Some((lost, _)) = h.take_trip(&mut st) {
-                    let tooth: f32 = (0..LEN).map(flute).sum::<f32>() / LEN as f32;
-                    return (out, Some((k, pos, lost / tooth)));
+        let (mut out, mut tripped) = (Vec::new(), None);
+        sample_through(h, periods, offs, lags, |st, k, pos, closed| {
+            if let Some(t) = closed {
+                let period = if unusable.contains(&(k - 1)) {
+                    Period::Unusable
+                } else {
+                    Period::Cut { steady: true }
+                };
+                out.push(h.measure(st, t, period, 1.0));
+                if let (Some(share), true) = (trip, k > from) {
+                    let prev = &periods[k - 1];
+                    let ft = prev.iter().sum::<f32>() / prev.len() as f32;
+                    let whole = whole.unwrap_or(f32::INFINITY);
+                    h.arm_trip(st, t, ft, share, 0.0, f32::INFINITY, whole);
                 }
             }
-        }
-        (out, None)
+            if let Some((lost, _)) = h.take_trip(st) {
+                let tooth: f32 = (0..LEN).map(flute).sum::<f32>() / LEN as f32;
+                tripped = Some((k, pos, lost / tooth));
+                return false;
+            }
+            true
+        });
+        (out, tripped)
     }
 
     fn run(periods: &[Vec<f32>], unusable: &[usize]) -> Vec<(f32, f32)> {
@@ -2342,5 +2441,74 @@ mod tests {
         assert!(!Handover::new(MAX_TEETH as u8 + 1, true, true, true).on);
         assert!(!Handover::new(4, false, true, true).on);
         assert!(Handover::new(MAX_TEETH as u8, true, true, true).on);
+    }
+
+    /// `Handover::boundary_moved_n` bounds what a period's boundaries moved: brute force,
+    /// the mean of each period of a revolution whose boundaries lie `shift` samples off
+    /// (every other one, so that periods lengthen and shorten too; told as the boundary's
+    /// offset) against the same tooth's mean a revolution earlier. Three flutes, each
+    /// cutting 36 of its 48 samples: the cut inside the period (a quiet stretch at both
+    /// ends), at its start (a steep edge at the boundary), across it (the edge a few samples
+    /// before the boundary). The bound takes in what moved, and is not far past it.
+    #[test]
+    fn a_boundary_moves_no_more_force_than_told() {
+        const CUTS: usize = 36;
+        let h = Handover::new(N, true, true, true);
+        let level = |j: usize, start: usize| {
+            let pos = (j + LEN - start) % LEN;
+            if pos < CUTS {
+                10.0 * (1.0 - pos as f32 / CUTS as f32) + 2.0
+            } else {
+                0.0
+            }
+        };
+        let mean: f32 = (0..LEN).map(|j| level(j, 0)).sum::<f32>() / LEN as f32;
+        for start in [6, 0, 44] {
+            for shift in [0usize, 2, 5] {
+                let revs = 4;
+                // Boundary `k` at `k LEN`, in the last revolution (and the one that ends
+                // it) every other one `shift` later.
+                let moved = |k: usize| k >= (revs - 1) * N as usize && k % 2 == 1;
+                let at = |k: usize| k * LEN + if moved(k) { shift } else { 0 };
+                let bounds: Vec<usize> = (0..=revs * N as usize + 1).map(at).collect();
+                let periods: Vec<Vec<f32>> = bounds
+                    .windows(2)
+                    .map(|b| (b[0]..b[1]).map(|j| level(j, start)).collect())
+                    .collect();
+                let offs: Vec<f32> = (0..periods.len())
+                    .map(|k| if moved(k) { shift as f32 } else { 0.0 })
+                    .collect();
+                let (mut checked, mut told_before) = (0, None);
+                sample_through(h, &periods, &offs, &[], |st, k, _, closed| {
+                    let Some(t) = closed else { return true };
+                    h.measure(st, t, Period::Cut { steady: true }, 1.0);
+                    let closed_k = k - 1;
+                    if closed_k < (revs - 1) * N as usize {
+                        return true;
+                    }
+                    let avg = |v: &Vec<f32>| v.iter().sum::<f32>() / v.len() as f32;
+                    let change = avg(&periods[closed_k]) - avg(&periods[closed_k - N as usize]);
+                    let told = h.boundary_moved_n(st, 0);
+                    assert!(
+                        change.abs() <= told,
+                        "start {start}, shift {shift}, period {closed_k}: {change} > {told}"
+                    );
+                    // Not far past it: with the jitter's sample at each end alone, under a
+                    // sixth of the tooth; boundaries 2 or 5 samples off, under the tooth (2
+                    // to 5 times what moved: the dilution counted at both ends, the
+                    // periods' growth, a bin past the reach).
+                    let most = if shift == 0 { mean / 6.0 } else { mean };
+                    assert!(told < most, "{start} {shift} {closed_k}: {told}");
+                    // The period before, asked one record on: as told then.
+                    if let Some(before) = told_before {
+                        assert_eq!(h.boundary_moved_n(st, 1), before);
+                    }
+                    told_before = Some(told);
+                    checked += 1;
+                    true
+                });
+                assert_eq!(checked, N as usize);
+            }
+        }
     }
 }

@@ -799,6 +799,13 @@ impl Monitor {
         self.tooth_record(st, p, None, probe)
     }
 
+    /// How much force the boundaries of the period closed `back` records before the last
+    /// may have moved against its tooth's a revolution earlier
+    /// ([`Handover::boundary_moved_n`]).
+    pub(crate) fn boundary_moved_n(&self, st: &MonitorState, back: usize) -> f32 {
+        self.handover.boundary_moved_n(&st.hand, back)
+    }
+
     /// [`Self::tooth`], also writing the record into `copy`: from the registers it is
     /// computed in, the second copy costs a store per field, where copying the record
     /// afterwards is a `memcpy` call (see `Pipeline::tooth_update`).

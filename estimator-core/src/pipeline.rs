@@ -142,11 +142,12 @@ impl Pipeline {
         let recut = st.monitor.recut_change_n();
         let var_t = st.monitor.change_var_n2();
         let quiet = st.monitor.lag_quiet();
+        let moved = |back| self.monitor.boundary_moved_n(&st.monitor, back);
         let out = self.alarms.process_with(
             &mut st.alarms,
             &st.last,
             model,
-            (recut, var_t, quiet),
+            (recut, var_t, quiet, &moved),
             probe,
         );
         self.monitor.arm_trip(

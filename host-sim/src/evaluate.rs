@@ -2481,6 +2481,18 @@ mod held_out_tests {
         caught_with_no_false_alarm(Kind::Break, 89, 11513, 8);
     }
 
+    /// Flutes broken 13 and 9 teeth after a speed ramp (seed 12739 break 29 and seed 12793
+    /// break 37: 2 flutes, boundaries in the cut's quiet stretch, 1.00 revolution after the
+    /// first missed cut before). The next flute's gain raised `E` at 3.3 and 4.3 times its
+    /// threshold, and the speed test took it back: the tracked boundaries still moved, but
+    /// where nothing is cut, 12 N of the 264 and 162 N; the trip came on the broken
+    /// flute's next pass. `E` past its threshold by what the boundaries moved stands
+    /// (`handover::Handover::boundary_moved_n`): within a revolution over 8 noise seeds.
+    #[test]
+    fn a_flute_broken_after_a_ramp_is_raised_past_what_the_boundaries_moved() {
+        all_within_a_revolution(&[(29, 12739), (37, 12793)]);
+    }
+
     /// Flutes broken in wide cuts after a hand-over's evidence (seed 11755 break 118: 4
     /// flutes, `R_r` 1.6; seeds 11843 break 72 and 11922 break 103; 1.16, 1.22 and 1.10
     /// revolutions after the first missed cut before). The broken flute's first whole
