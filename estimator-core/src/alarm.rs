@@ -1222,12 +1222,12 @@ impl Alarms {
     /// revolution earlier ([`crate::handover::Handover::boundary_moved_n`]; `INFINITY`: not
     /// known, as [`NOT_TOLD`] says), asked only where a decision needs it.
     #[inline(never)]
-    pub(crate) fn process_with<P: Probe>(
+    pub(crate) fn process_with<P: Probe, M: Fn(usize) -> f32 + ?Sized>(
         &self,
         st: &mut AlarmState,
         rec: &ToothRecord,
         model_n: Option<[f32; 2]>,
-        (recut_n, trip_var_n2, lag_quiet, boundary_moved_n): (f32, f32, u8, &dyn Fn(usize) -> f32),
+        (recut_n, trip_var_n2, lag_quiet, boundary_moved_n): (f32, f32, u8, &M),
         probe: &mut P,
     ) -> AlarmOutput {
         let n = self.n;
@@ -1421,8 +1421,9 @@ impl Alarms {
                 // (`decision_var`).
                 let clip = k * measured;
                 let mut exceeded = false;
-                // `E` and its threshold where `E` raised first (the speed test below).
-                let mut e_raised = None::<(f32, f32)>;
+                // How far `E` passed its threshold where it raised first (the speed test
+                // below; -INFINITY: it did not).
+                let mut e_margin = f32::NEG_INFINITY;
                 let noise = self.decision_var(st, measured);
                 let (settled, e_var) = (noise.is_some(), noise.unwrap_or(st.e_var));
                 // Cheap screen first: the model threshold is only needed near the limit, and
@@ -1493,7 +1494,7 @@ impl Alarms {
                                 && count >= self.cfg.breakage.debounce_teeth as u32;
                             if both_signs || e.abs() > SINGLE_EXCEEDANCE * threshold {
                                 if raised_cell.get().is_none() {
-                                    e_raised = Some((e.abs(), threshold));
+                                    e_margin = e.abs() - threshold;
                                 }
                                 raise_one_rev(e.abs(), threshold);
                             }
@@ -1641,7 +1642,7 @@ impl Alarms {
                 if matches!(raised_cell.get(), Some((Cause::Breakage, ..)))
                     && !quiet
                     && !self.speed_settled(st)
-                    && !self.past_moved(e_raised, f / rec.f2_n, boundary_moved_n)
+                    && !self.past_moved(e_margin, f / rec.f2_n, boundary_moved_n)
                 {
                     raised_cell.set(None);
                 }
@@ -2735,21 +2736,18 @@ impl Alarms {
         now.abs_diff(then) <= now / per.max(1) + 2
     }
 
-    /// Whether `E` raised (its value and threshold) past its threshold by as much as the
-    /// boundaries of its two teeth's newest periods may have moved (told by the hand-over
-    /// stage in tangential force; `scale`: the watched signal's per newton of it).
+    /// Whether `E` passed its threshold (by `e_margin`) by as much as the boundaries of its
+    /// two teeth's newest periods may have moved (told by the hand-over stage in tangential
+    /// force; `scale`: the watched signal's per newton of it).
     #[cold]
     #[inline(never)]
-    fn past_moved(
+    fn past_moved<M: Fn(usize) -> f32 + ?Sized>(
         &self,
-        e_raised: Option<(f32, f32)>,
+        e_margin: f32,
         scale: f32,
-        moved: &dyn Fn(usize) -> f32,
+        moved: &M,
     ) -> bool {
-        e_raised.is_some_and(|(e, threshold)| {
-            let m = (moved(0) + moved(1)) * libm::fabsf(scale);
-            e - m > threshold
-        })
+        e_margin > (moved(0) + moved(1)) * libm::fabsf(scale)
     }
 
     /// Whether the newest two revolutions are as long as the two from

@@ -481,47 +481,55 @@ impl Handover {
     #[cold]
     #[inline(never)]
     pub fn boundary_moved_n(&self, st: &HandoverState, back: usize) -> f32 {
-        let n = self.teeth.max(1) as usize;
-        let t = (st.last_tooth as usize + n - back % n) % n;
         // Its end is the next period's start: the open one's for the last period.
-        let (s_a, s_b, bin_len) = match back {
-            0 => (st.start_shift[0], st.jitter_bins * st.bin_len, st.bin_len),
-            1 => (st.start_shift[1], st.start_shift[0], st.bin_len_before),
+        let t = st.last_tooth as usize;
+        let (t, s_a, s_b, bin_len) = match back {
+            0 => (
+                t,
+                st.start_shift[0],
+                st.jitter_bins * st.bin_len,
+                st.bin_len,
+            ),
+            1 => (
+                t.checked_sub(1)
+                    .unwrap_or((self.teeth as usize).saturating_sub(1)),
+                st.start_shift[1],
+                st.start_shift[0],
+                st.bin_len_before,
+            ),
             _ => return f32::INFINITY,
         };
         let (true, Some(p)) = (self.on, st.last.get(t)) else {
             return f32::INFINITY;
         };
-        let ok =
-            st.filled & 1u8.wrapping_shl(t as u32) != 0 && st.per_unit_n > 0.0 && bin_len > 0.0;
-        if !ok {
+        if st.filled & 1u8.wrapping_shl(t as u32) == 0 {
             return f32::INFINITY;
         }
-        // (Loops the compiler keeps as loops, `black_box`: unrolled, 1.6 KiB of flash.)
-        let bins = core::hint::black_box(BINS);
-        let (mut lo, mut sum) = (f32::INFINITY, 0.0f32);
-        for &x in p.iter().take(bins) {
-            lo = fmath::min(lo, x);
-            sum += x;
-        }
-        let dilute = sum * (1.0 / BINS as f32) - lo;
-        // The most any of the `s` samples' bins at one end holds over `lo`, the bin the
-        // boundary lies in and the one past the reach.
+        // The most any of the `s` samples' bins at one end holds, the bin the boundary lies
+        // in and the one past the reach, over the least bin. (One loop the compiler keeps
+        // as a loop, `black_box`: unrolled, 1.6 KiB of flash. Plain compares: a NaN bin
+        // makes the sum NaN, and the answer not known.)
         let reach = |s: f32| (s / bin_len) as usize + 2;
         let (first, last) = (reach(s_a), BINS.saturating_sub(reach(s_b)));
-        let (mut start, mut end) = (0.0f32, 0.0f32);
-        for (i, &x) in p.iter().enumerate().take(bins) {
-            if i < first {
-                start = fmath::max(start, x - lo);
+        let (mut lo, mut sum) = (f32::INFINITY, 0.0f32);
+        let (mut start, mut end) = (f32::NEG_INFINITY, f32::NEG_INFINITY);
+        for (i, &x) in p.iter().enumerate().take(core::hint::black_box(BINS)) {
+            lo = if x < lo { x } else { lo };
+            sum += x;
+            if i < first && x > start {
+                start = x;
             }
-            if i >= last {
-                end = fmath::max(end, x - lo);
+            if i >= last && x > end {
+                end = x;
             }
         }
+        let dilute = sum * (1.0 / BINS as f32) - lo;
+        let (start, end) = (start - lo, end - lo);
         let moved = s_a * (start + dilute) + s_b * (end + dilute);
         let moved_n = moved / (BINS as f32 * bin_len) * st.per_unit_n;
-        // (NaN from bad data: not known.)
-        if moved_n >= 0.0 {
+        // (NaN from bad data, or no scale to newtons: not known. Nothing moved at all is
+        // taken as not known too.)
+        if moved_n > 0.0 {
             moved_n
         } else {
             f32::INFINITY
