@@ -2736,9 +2736,9 @@ impl Alarms {
         now.abs_diff(then) <= now / per.max(1) + 2
     }
 
-    /// Whether `E` passed its threshold (by `e_margin`) by as much as the boundaries of its
-    /// two teeth's newest periods may have moved (told by the hand-over stage in tangential
-    /// force; `scale`: the watched signal's per newton of it).
+    /// Whether `E` passed its threshold (by `e_margin`; -INFINITY: `E` did not raise) by as
+    /// much as the boundaries of its two teeth's newest periods may have moved (told by the
+    /// hand-over stage in tangential force; `scale`: the watched signal's per newton of it).
     #[cold]
     #[inline(never)]
     fn past_moved<M: Fn(usize) -> f32 + ?Sized>(
@@ -2747,6 +2747,8 @@ impl Alarms {
         scale: f32,
         moved: &M,
     ) -> bool {
+        // (Asked too where `E` did not raise: -INFINITY passes nothing, and a guard costs
+        // 16 B of flash on a rare path.)
         e_margin > (moved(0) + moved(1)) * libm::fabsf(scale)
     }
 
@@ -5117,7 +5119,7 @@ mod tests {
             if i + 8 > at && i <= at {
                 faster(&mut rec, shorter);
             }
-            let c: (f32, f32, u8, &dyn Fn(usize) -> f32) = (f32::NAN, 0.0, quiet, &NOT_TOLD);
+            let c = (f32::NAN, 0.0, quiet, &NOT_TOLD);
             if let Some(e) = a.process_with(&mut st, &rec, None, c, &mut NoProbe).event {
                 return Some((i, e.cause));
             }
