@@ -1851,11 +1851,18 @@ impl Alarms {
                         lost += 1;
                     }
                     let lost_since = lost.saturating_sub(1);
-                    self.trip_share(st, rec.tc_mm, sigma_r, 0.0, Some(lost_since))
+                    self.trip_share(st, rec.tc_mm, sigma_r, 0.0, Some(lost_since), 0.0)
                         .map(|(share, whole)| (share, floor, whole))
-                } else if fresh
-                    || self.no_recent_loss(st, TRIP_QUIET_SIGMAS * TRIP_QUIET_SIGMAS * var_r)
-                        && !(st.all_armed(self.armed_fade)
+                } else if let Some(run_lost) = if fresh {
+                    // (After a run of the newest teeth that lost, at the share of the exit
+                    // that took it: `recent_loss`.)
+                    Some(0.0)
+                } else {
+                    self.recent_loss(st, var_r, sigma_r)
+                }
+                .filter(|_| {
+                    fresh
+                        || !(st.all_armed(self.armed_fade)
                             && self.fell(st, var, 0, 2, TRIP_FALL_SIGMAS))
                         // (Nor with two of the last 2N records flagged transient: a cut
                         // still changing. Seed 1723 normal 113: an exit's tail of 150-200 N
@@ -1877,7 +1884,7 @@ impl Alarms {
                         // a ramp's start outruns: without this test, 2 of 16 noise seeds of
                         // that case still tripped.)
                         && (!st.all_armed(self.armed_two_revs) || self.steady_speed(st))
-                {
+                }) {
                     // (After a move the hand-over stage walks the periods since; and no
                     // credit: two revolutions are not armed.)
                     if fresh {
@@ -1885,7 +1892,7 @@ impl Alarms {
                     }
                     // The trip channel's noise on the resultant's scale, for the close.
                     let sigma_t = libm::sqrtf(trip_var_n2) * f / rec.f2_n;
-                    self.trip_share(st, rec.tc_mm, sigma_r, sigma_t, None)
+                    self.trip_share(st, rec.tc_mm, sigma_r, sigma_t, None, run_lost)
                         .map(|(share, whole)| {
                             // The next tooth's loss a revolution ago, out of a steady cut: its
                             // period then is the reference now.
@@ -2229,6 +2236,43 @@ impl Alarms {
         self.n >= 3 && (st.exit_wide > 0.0 || st.held.is_none() && st.span_share > SPAN_SHARE)
     }
 
+    /// The plain trip's loss of the newest teeth in sigma_R (`var_r`, `sigma_r`): 0 where
+    /// no run of them lost ([`Alarms::no_recent_loss`] at [`TRIP_QUIET_SIGMAS`]); else the
+    /// most any run of the newest `j <= N` teeth lost (`-S_j`, the newest tooth in it
+    /// though a wide cut's test leaves it out). An exit may be under way: `trip_share`
+    /// takes that run's loss as the newest tooth's, the exit's reach then the newest's
+    /// travel for it and the noise, and asks as much more as the next tooth's chip can
+    /// take. A run's sum, not its newest tooth: an exit's windows need not lose in order
+    /// (seeds 8770 normal 2 and 8783 normal 7 lost 24-29 %, then 21-22 %, then 54-57 %;
+    /// their sum asks about 0.9). Before, such a run left the trip unarmed, and a flute
+    /// broken after two teeth that lost to noise waited for its next flute's gain (seed
+    /// 12791 break 118: 3 flutes at `R_r` 1.49, the newest two -54 and -33 N measured,
+    /// -29 and +19 in the truth, then the broken flute's window 95 % down, 1.35
+    /// revolutions late). `None` without a tooth armed with its own a revolution earlier.
+    #[inline(always)]
+    fn recent_loss(&self, st: &AlarmState, var_r: f32, sigma_r: f32) -> Option<f32> {
+        if self.no_recent_loss(st, TRIP_QUIET_SIGMAS * TRIP_QUIET_SIGMAS * var_r) {
+            return Some(0.0);
+        }
+        self.run_loss_sigmas(st, sigma_r)
+    }
+
+    /// ... the largest `-S_j` over the newest `j <= N` armed teeth, in `sigma_r`.
+    #[cold]
+    #[inline(never)]
+    fn run_loss_sigmas(&self, st: &AlarmState, sigma_r: f32) -> Option<f32> {
+        let n = self.n;
+        let pairs = ((!st.armed).trailing_zeros() as usize)
+            .saturating_sub(n)
+            .min(n);
+        let (mut sum, mut worst) = (0.0f32, 0.0f32);
+        for j in 0..pairs {
+            sum += st.force(j) - st.force(j + n);
+            worst = crate::fmath::max(worst, -sum);
+        }
+        (pairs > 0).then_some(worst / sigma_r)
+    }
+
     /// Whether no run of the newest teeth lost force from one revolution earlier: every
     /// sum `S_j` of `R_k = F_k - F_{k+N}` over the newest `j <= N` teeth above
     /// `-sqrt(j var)` (`var`: the bound's square for one tooth). An exit's teeth all lose,
@@ -2237,9 +2281,8 @@ impl Alarms {
     /// Where the cut spans more than a pitch (3 flutes or more, the newest two armed) the
     /// newest tooth is left out: a flute's cut begins in the window before its own, where
     /// a broken flute's next pass loses first (seed 9527 break 33), and `trip_share` covers
-    /// the exit that its loss would show. The teeth before it must not have lost: seeds
-    /// 8770 normal 2 and 8783 normal 7, exits whose windows lost 24-29 %, then 21-22 %,
-    /// then 54-57 %, past the share of the exit the second loss would show.
+    /// the exit that its loss would show. Where a run lost, the plain trip asks what the
+    /// exit that took the run's loss takes ([`Alarms::recent_loss`]).
     #[inline(never)]
     fn no_recent_loss(&self, st: &AlarmState, var: f32) -> bool {
         let skip = (self.spans_windows(st) && st.all_armed(self.armed_e)) as usize;
@@ -2269,7 +2312,8 @@ impl Alarms {
     /// without one, the worst `R_r`), or the next flute's chip (a feed; more for a flute
     /// heavier than the revolution's mean) past what the newest tooth's loss allows
     /// (its loss, 0 for a gain, and `TRIP_QUIET_SIGMAS` of its own noise for the plain
-    /// trip, 3 + 3 sigma_R where that tooth's change is not armed; the bound it was checked
+    /// trip, 3 + 3 sigma_R where that tooth's change is not armed, the newest run's loss
+    /// `run_lost` [sigma_R] where that is more; the bound it was checked
     /// against, 2 + 3 after a hand-over's evidence; where it lost past the bound (in a wide
     /// cut, the window before the handed tooth's, or any window for the plain trip): the
     /// exit it shows may be past the two feeds, and is as far as that loss
@@ -2297,6 +2341,7 @@ impl Alarms {
         sigma_r: f32,
         sigma_t: f32,
         evidence: Option<usize>,
+        run_lost: f32,
     ) -> Option<(f32, f32)> {
         // (-1: no valid `R_r`, the worst one.)
         let rr = st.held.map_or(-1.0, |(rr, _)| rr);
@@ -2352,11 +2397,14 @@ impl Alarms {
             // put an exit 6 sigma_R of its force on, a share 0.02-0.04 higher at 4 flutes
             // in wide arcs, where breaks lost 55-63 %: seeds 9231 break 118, 9246 break
             // 48. Without its own change, after a move: the bound.)
-            let lost = if st.all_armed(self.armed_e) {
-                lost
-            } else {
-                TRIP_QUIET_SIGMAS
-            };
+            let lost = crate::fmath::max(
+                if st.all_armed(self.armed_e) {
+                    lost
+                } else {
+                    TRIP_QUIET_SIGMAS
+                },
+                run_lost,
+            );
             // The next period's tooth handed over a revolution ago (its hand-over shows
             // in the record after its own, `N - 2` back).
             let handed = self.n >= 2 && st.handed_z >> (self.n - 2) & 1 != 0;
@@ -4291,6 +4339,18 @@ mod tests {
         assert_eq!(weak.1, EVIDENCE_SHARE);
     }
 
+    /// The drop trip `(floor, share)` within a pitch (`R_r` 0.3) after a loss of
+    /// `lost_share` of the newest tooth's force: armed, at no less than `TRIP_SHARE` and the
+    /// share of the exit that took that loss, a feed (`feed`, in radii) further on.
+    fn armed_past_the_narrow_exit((floor, share): (f32, f32), lost_share: f32, feed: f32) {
+        let shown = crate::geometry::exit_travel(0.3, lost_share);
+        let least = crate::geometry::exit_loss_share(0.3, shown + feed);
+        assert!(
+            floor.is_finite() && share >= least.max(TRIP_SHARE),
+            "{floor} {share}: {least}"
+        );
+    }
+
     /// Alarms for a 3 mm tool, and the wide arc its records `wide_record` carry: `(alarms,
     /// R_r, feed)`, `R_r` 1.4 (the arc holds pi/2), one feed 0.2 mm of the 3 mm radius.
     fn wide_arc() -> (Alarms, f32, f32) {
@@ -4389,7 +4449,8 @@ mod tests {
     /// break 45: 4 flutes, `R_r` 1.41, the window before lost 25 %, the handed one 59 %,
     /// 1.3 revolutions late when that loss disarmed the trip). Where the cut spans less
     /// (`R_r` 0.3 at the same depth: 0.80 + 0.58 rad against `pi/2`), a window that loses
-    /// after a pair is an exit's first tooth: not armed.
+    /// after a pair may be an exit's first tooth: the evidence is void, and the plain trip
+    /// asks what that exit takes a feed on (`Alarms::recent_loss`).
     #[test]
     fn a_wide_cut_begins_in_the_window_before_the_handed_tooth() {
         let (a, rr, feed) = wide_arc();
@@ -4412,8 +4473,10 @@ mod tests {
             further.0.is_finite() && further.1 > share,
             "{further:?}: {share}"
         );
-        let (floor, _, _) = arming(0.3, -8.0);
-        assert!(floor.is_infinite(), "{floor}");
+        // Within a pitch the evidence is void (an exit's first tooth may follow a pair),
+        // and the plain trip asks what an exit that took the newest's loss takes a feed on.
+        let (floor, share, _) = arming(0.3, -8.0);
+        armed_past_the_narrow_exit((floor, share), 8.0 / 130.0, feed);
         // (Without the loss both are armed.)
         assert!(arming(0.3, 0.0).0.is_finite());
     }
@@ -4462,9 +4525,10 @@ mod tests {
     /// 67-70 %, and the next alarm was the next flute's gain, a period past the
     /// revolution). The plain trip is armed after that loss too, at the share of the exit
     /// that loss would show: as far on as the loss and 3 sigma_R of noise take it, a feed
-    /// further and the next flute's reach. Not where the tooth before lost too (an exit's
-    /// teeth all lose: seeds 8770 normal 2 and 8783 normal 7, tripped without this), nor
-    /// where the cut spans less: a tooth that lost is an exit's first.
+    /// further and the next flute's reach. Where the tooth before lost too, as far on as
+    /// the two losses together show (an exit's windows need not lose in order: seeds 8770
+    /// normal 2 and 8783 normal 7 tripped on the newest's alone), and further for a larger
+    /// loss. Within a pitch as far as the newest's loss shows, and at least `TRIP_SHARE`.
     #[test]
     fn a_wide_cut_arms_the_trip_after_the_newest_tooths_loss() {
         let (a, rr, feed) = wide_arc();
@@ -4490,9 +4554,24 @@ mod tests {
         );
         let quiet = arming(rr, 0.0);
         assert!(quiet.0.is_finite() && quiet.1 < share, "{quiet:?}: {share}");
-        // The tooth before lost too: an exit's teeth all lose.
-        assert!(arming_after(rr, -8.0, -8.0).0.is_infinite());
-        assert!(arming(0.3, -8.0).0.is_infinite());
+        // The tooth before lost too: an exit may have taken both (its windows need not lose
+        // in order), and is as far on as their sum shows.
+        let both = arming_after(rr, -8.0, -8.0);
+        let shown = crate::geometry::exit_travel(rr, 16.0 / 130.0);
+        let least = crate::geometry::exit_loss_share(rr, shown + feed);
+        assert!(
+            both.0.is_finite() && both.1 >= least && both.1 > share,
+            "{both:?}: {least} {share}"
+        );
+        let more = arming_after(rr, -30.0, -8.0);
+        assert!(
+            more.0.is_finite() && more.1 > both.1 + 0.05,
+            "{more:?} {both:?}"
+        );
+        // Within a pitch the plain trip asks that of the newest tooth's loss, and at least
+        // `TRIP_SHARE`.
+        let (floor, share, _) = arming(0.3, -8.0);
+        armed_past_the_narrow_exit((floor, share), 8.0 / 130.0, feed);
         assert!(arming(0.3, 0.0).0.is_finite());
     }
 
@@ -4726,9 +4805,10 @@ mod tests {
 
     /// The drop trip inside a period (`crate::handover`) is armed out of a steady cut, at
     /// 6 sigma of `R = F_k - F_{k-N}` (noise of 3 N on each tooth: sigma_R = 3 sqrt 2 N);
-    /// not after teeth that lost force (an exit: every tooth loses, the newest most), nor
-    /// after a revolution that held where the ones before fell (an exit that paused); and
-    /// again after a loss the next tooth took back (a flute broken in its period).
+    /// after teeth that lost force at the share of the exit their loss shows, a feed on
+    /// (an exit: every tooth loses), not where that exit takes most of the force; not after
+    /// a revolution that held where the ones before fell (an exit that paused); and again
+    /// after a loss the next tooth took back (a flute broken in its period).
     #[test]
     fn the_drop_trip_is_armed_out_of_a_steady_cut_and_not_in_an_exit() {
         let floor = trip_floor_after(&[]);
@@ -4742,9 +4822,21 @@ mod tests {
             (floor - expected).abs() < 0.25 * expected,
             "{floor} vs {expected}"
         );
-        // The newest tooth lost 20 N (4.7 sigma_R), or the two newest 12 N each.
-        assert!(trip_floor_after(&[0.0, 0.0, 0.0, -20.0]).is_infinite());
-        assert!(trip_floor_after(&[0.0, 0.0, -12.0, -12.0]).is_infinite());
+        // The newest tooth lost 20 N (4.7 sigma_R), or the two newest 12 N each: an exit may
+        // be under way, as far on as that loss shows with its noise (`narrow_arc`, 0.2 mm a
+        // tooth at the default radius), and the trip asks what it takes a feed further on.
+        // A run that lost most of the teeth's force: it takes the rest.
+        let feed = 0.2 / EstimatorConfig::default().tool.radius_mm;
+        let (_, quiet) = trip_arming_after(&[]);
+        for (after, lost) in [
+            ([0.0, 0.0, 0.0, -20.0], 20.0),
+            ([0.0, 0.0, -12.0, -12.0], 24.0),
+        ] {
+            let (floor, share) = trip_arming_after(&after);
+            armed_past_the_narrow_exit((floor, share), lost / 100.0, feed);
+            assert!(share > quiet, "{after:?}: {share} {quiet}");
+        }
+        assert!(trip_floor_after(&[0.0, -40.0, -40.0, -40.0]).is_infinite());
         // A hand-over: tooth 1 lost 15 N (3.5 sigma_R), tooth 2 gained them.
         assert!(trip_floor_after(&[0.0, -15.0, 15.0, 0.0]).is_finite());
         // An exit that lost 8 N a tooth each revolution for three, then paused for one:

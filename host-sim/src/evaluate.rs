@@ -2481,6 +2481,19 @@ mod held_out_tests {
         caught_with_no_false_alarm(Kind::Break, 89, 11513, 8);
     }
 
+    /// Flutes broken right after two teeth that lost to noise (seed 12791 break 118: 3
+    /// flutes at `R_r` 1.49, the newest two -54 and -33 N measured, -29 and +19 N in the
+    /// truth; seed 12794 break 3: 3 flutes at `R_r` 1.52). The plain trip was not armed
+    /// after the run (an exit may be under way), and the alarm waited for the next flute's
+    /// gain, 1.35 revolutions after the first missed cut; armed at the share of the exit
+    /// the run's loss shows, the broken flute's empty window trips it.
+    #[test]
+    fn a_flute_broken_after_teeth_lost_to_noise_trips_its_empty_window() {
+        all_within_a_revolution(&[(118, 12791), (3, 12794)]);
+        caught_with_no_false_alarm(Kind::Break, 118, 12791, 8);
+        caught_with_no_false_alarm(Kind::Break, 3, 12794, 8);
+    }
+
     /// A window moved in the middle of a speed ramp (seed 12813 normal 115: 2 flutes, 39 N a
     /// tooth, the spindle 18 % slower over 10 teeth). The one period since the move was as
     /// long as the one before the odd period (107 and 106 samples), and its change from the
