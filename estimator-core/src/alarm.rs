@@ -1854,15 +1854,12 @@ impl Alarms {
                     self.trip_share(st, rec.tc_mm, sigma_r, 0.0, Some(lost_since), 0.0)
                         .map(|(share, whole)| (share, floor, whole))
                 } else if let Some(run_lost) = if fresh {
-                    // (After a run of the newest teeth that lost, at the share of the exit
-                    // that took it: `recent_loss`.)
                     Some(0.0)
                 } else {
-                    self.recent_loss(st, var_r, sigma_r)
-                }
-                .filter(|_| {
-                    fresh
-                        || !(st.all_armed(self.armed_fade)
+                    // (After a run of the newest teeth that lost, at the share of the exit
+                    // that took it: `recent_loss`.)
+                    self.recent_loss(st, var_r, sigma_r).filter(|_| {
+                        !(st.all_armed(self.armed_fade)
                             && self.fell(st, var, 0, 2, TRIP_FALL_SIGMAS))
                         // (Nor with two of the last 2N records flagged transient: a cut
                         // still changing. Seed 1723 normal 113: an exit's tail of 150-200 N
@@ -1884,7 +1881,8 @@ impl Alarms {
                         // a ramp's start outruns: without this test, 2 of 16 noise seeds of
                         // that case still tripped.)
                         && (!st.all_armed(self.armed_two_revs) || self.steady_speed(st))
-                }) {
+                    })
+                } {
                     // (After a move the hand-over stage walks the periods since; and no
                     // credit: two revolutions are not armed.)
                     if fresh {
