@@ -95,6 +95,9 @@ prune target/calibrated
 # revolution).
 step cargo run --release -p host-sim -- demo --out-dir target/demo-ci
 step cargo run --release -p host-sim -- evaluate-alarms --set small --check
+# ... and again without the servo amplifiers' current-loop lag (a machine calibrated with
+# `spindle_lag_s` 0; a false alarm there once went unseen at the default 0.5 ms).
+step cargo run --release -p host-sim -- evaluate-alarms --set small --check --lag-s 0
 
 # --- later steps go here (benchmarks, golden-trace replays, ...) ---------------------------
 
