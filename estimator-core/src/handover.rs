@@ -294,6 +294,10 @@ pub struct HandoverState {
     /// tracked times and how far those lagged the pulses (`Handover::period_start`). (Last: ahead of the fields the per-sample
     /// path reads they cost its fastest sample 6 instructions, measured under QEMU.)
     shift: f32,
+    /// What a ramp's lag moved the open period's boundary by past `shift` (the jitter's
+    /// share of the lag's change, `Handover::period_start`): the trip allows for it, the
+    /// reference is still blended across it.
+    ramp_lag: f32,
     /// The last closed period's length on the pulses' tracked times (its growth on the one
     /// before is the speed's change, `Handover::period_len`); the open period's boundary
     /// off them, and how much further the closed one's end lay off them than its start.
@@ -387,6 +391,7 @@ impl Default for HandoverState {
             lost: 0.0,
             bin_len: 1.0,
             shift: 0.0,
+            ramp_lag: 0.0,
             len_before: 0.0,
             last_off: 0.0,
             closed_off: 0.0,
@@ -606,21 +611,37 @@ impl Handover {
     /// after the ramp, and the light tooth's chip 10 samples later in the bins than a
     /// revolution earlier tripped the plain trip inside the period). The trip allows for
     /// the lag's change since the tooth's last period too, less what the jitter alone
-    /// moves the lag measured on the pulses by ([`LAG_JITTER_SAMPLES`]).
+    /// moves the lag measured on the pulses by ([`LAG_JITTER_SAMPLES`]) where the lag is
+    /// within that; past it, whole.
     #[inline(always)]
     pub fn period_start(&self, st: &mut HandoverState, off_samples: f32, lag_samples: f32) {
         st.closed_off = off_samples - st.last_off;
         st.last_off = off_samples;
         let open = st.open as usize;
         if let (Some(r), Some(l)) = (st.start_off.get_mut(open), st.start_lag.get_mut(open)) {
-            let lagged = libm::fabsf(lag_samples - *l) - LAG_JITTER_SAMPLES;
-            st.shift = libm::fabsf(off_samples - *r) + fmath::max(lagged, 0.0);
+            let change = libm::fabsf(lag_samples - *l);
+            let lagged = change - LAG_JITTER_SAMPLES;
+            let off = libm::fabsf(off_samples - *r);
+            st.shift = off + fmath::max(lagged, 0.0);
+            // Past the jitter the lag is a ramp's, and so is its change, whole (seed 13208
+            // taught 9 with no current-loop lag: a light 2-flute cut slowing down, the lag
+            // -2.4 then -6.3 samples at a tooth's two starts; less the jitter's 3, its
+            // short chip came 4 samples and more later against an allowance of 0.9, and a
+            // period that lost nothing in all tripped half-way). Whether the boundary
+            // moved is still asked past the jitter: `lag_quiet` tells that the lag
+            // settled, and the reference blends where it did not move.
+            st.ramp_lag = if libm::fabsf(lag_samples) > LAG_JITTER_SAMPLES {
+                // (The share of `change` that `shift` left out as the jitter's.)
+                fmath::min(change, LAG_JITTER_SAMPLES)
+            } else {
+                0.0
+            };
             // (A NaN lag is no quiet boundary; `max` above takes it as none.) A boundary at
             // the pulse holds its angle to the jitter whatever the tracked times' lag.
             let moved = if self.whole_at_close {
                 st.shift > JITTER_SAMPLES
             } else {
-                libm::fabsf(off_samples - *r) > LAG_JITTER_SAMPLES
+                off > LAG_JITTER_SAMPLES
             } || lagged.is_nan();
             st.lag_quiet = if moved {
                 0
@@ -653,7 +674,7 @@ impl Handover {
         st.len_before = tracked;
         st.bin_len_before = st.bin_len;
         st.bin_len = l * (1.0 / BINS as f32);
-        st.jitter_bins = (JITTER_SAMPLES + st.shift + ramp) / st.bin_len;
+        st.jitter_bins = (JITTER_SAMPLES + st.shift + st.ramp_lag + ramp) / st.bin_len;
     }
 
     /// The bins before `bin` are complete: their change from the same tooth's one
@@ -2184,6 +2205,43 @@ mod tests {
             (0.0, 0.0),
         ];
         assert_eq!(counts(false, &pulse), [1, 2, 0, 0, 0, 1]);
+    }
+
+    /// The tracked times' lag past the jitter (`LAG_JITTER_SAMPLES`) is a ramp's: inside the
+    /// period the trip allows for its change since the tooth's last start whole; within
+    /// the jitter, only what passes the jitter. Either way the boundary counts as moved
+    /// (`lag_quiet` restarts) only where the change passes the jitter and a sample.
+    #[test]
+    fn a_ramps_lag_is_allowed_for_whole() {
+        let h = Handover::new(N, true, true, true);
+        let mut st = HandoverState::default();
+        // The shift allowed for after a start at `lag` (`open` never moving: against the
+        // last call's), the periods all 80 samples, and the quiet count.
+        let mut allowed = |lag: f32| {
+            h.period_start(&mut st, 0.0, lag);
+            h.period_len(&mut st, 80);
+            (st.jitter_bins * st.bin_len - JITTER_SAMPLES, st.lag_quiet())
+        };
+        // (The first period's length counts as a growth from none.)
+        allowed(0.0);
+        assert_eq!(allowed(0.0), (0.0, 2));
+        // Within the jitter: 2.5 samples, the pulses' own; then 3.5, 0.5 past the jitter.
+        assert_eq!(allowed(-2.5), (0.0, 3));
+        assert_eq!(allowed(1.0), (0.5, 4));
+        // Seed 13208 taught 9's ramp: 2.4 then 6.3 behind; 3.9 allowed for, not 0.9.
+        let (shift, _) = allowed(-2.4);
+        assert!((shift - 0.4).abs() < 1e-4, "{shift}");
+        let (shift, quiet) = allowed(-6.3);
+        assert!((shift - 3.9).abs() < 1e-4, "{shift}");
+        assert_eq!(quiet, 6);
+        // Past the jitter and a sample: moved.
+        let (shift, quiet) = allowed(-11.0);
+        assert!((shift - 4.7).abs() < 1e-4, "{shift}");
+        assert_eq!(quiet, 0);
+        // Caught up to within the jitter: its change less the jitter, quiet again.
+        let (shift, quiet) = allowed(-2.0);
+        assert!((shift - 6.0).abs() < 1e-4, "{shift}");
+        assert_eq!(quiet, 0);
     }
 
     /// The window at the pulse, a down-milling chip (thickest at its steep entry)
