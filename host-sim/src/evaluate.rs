@@ -1811,6 +1811,15 @@ mod held_out_tests {
         );
     }
 
+    /// `no_alarm_over_noise_in` over 16 noise seeds with no current-loop lag (`--lag-s 0`).
+    fn no_alarm_without_lag(kind: Kind, index: usize, seed: u64) {
+        let no_lag = Setup {
+            lag_s: Some(0.0),
+            ..Setup::default()
+        };
+        no_alarm_over_noise_in(no_lag, kind, index, seed, 16);
+    }
+
     /// `kind` case `index` at draw seed `seed` over `seeds` noise seeds
     /// (`outcomes_over_noise`): each run's damage caught, and no alarm before it.
     fn caught_with_no_false_alarm(kind: Kind, index: usize, seed: u64, seeds: u64) {
@@ -2519,11 +2528,7 @@ mod held_out_tests {
     /// over 16 noise seeds.
     #[test]
     fn an_exit_after_a_noise_pair_without_lag_is_asked_past_the_noise_of_its_reach() {
-        let no_lag = Setup {
-            lag_s: Some(0.0),
-            ..Setup::default()
-        };
-        no_alarm_over_noise_in(no_lag, Kind::Normal, 28, 13070, 16);
+        no_alarm_without_lag(Kind::Normal, 28, 13070);
     }
 
     /// A light cut slowing down (seed 13208 taught 9 with no current-loop lag, found by
@@ -2536,11 +2541,7 @@ mod held_out_tests {
     /// its change is allowed for whole (`handover::Handover::period_start`).
     #[test]
     fn a_light_cut_slowing_down_raises_no_drop_when_its_chip_comes_late() {
-        let no_lag = Setup {
-            lag_s: Some(0.0),
-            ..Setup::default()
-        };
-        no_alarm_over_noise_in(no_lag, Kind::Taught, 9, 13208, 16);
+        no_alarm_without_lag(Kind::Taught, 9, 13208);
     }
 
     /// Flutes broken 13 and 9 teeth after a speed ramp (seed 12739 break 29 and seed 12793
