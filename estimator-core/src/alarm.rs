@@ -57,7 +57,10 @@
 //!     [`PAIR_RAISE_SIGMAS`] (9) sigma_R together, each side past 3 and the two past
 //!     `k F_expected`, raises at once: the gain may end a revolution after the break, and
 //!     where the flute broke before its own window the trip on its next pass finds nothing
-//!     to lose against a period already lost.
+//!     to lose against a period already lost. So does such a pair whose loss was flagged
+//!     transient in the revolutions after the history was forgotten out of a steady cut (a
+//!     moved window, a lost pulse), where the revolutions that would show its cut held are
+//!     not armed yet; it leaves no evidence there.
 //!
 //!   These three decide only with the spindle's speed settled: the newest two revolutions
 //!   as long as the two 16 teeth (whole revolutions) earlier, to 3 % and two samples
@@ -126,7 +129,12 @@
 //!     over, and a flute broken late in its cut hands over a little before it comes
 //!     round), and the trip is not armed beyond 0.9. The floor counts the next tooth's
 //!     loss a revolution ago (past 1.5 sigma_R, at least 2 sigma_R left): that period is the reference, and a
-//!     flute broken inside it left less there to lose; the loss over the two revolutions
+//!     flute broken inside it left less there to lose; the shares too are of the tooth's
+//!     force before that loss, less the loss, as shares of the reference
+//!     ([`AlarmState::trip_shares_of_reference`]: seeds 12998 break 2 and 13081 break 119,
+//!     4 flutes at `R_r` 1.45-1.57, whose broken flute's next window lost its share of
+//!     the force two revolutions back, not of the lighter reference, a sample or a few
+//!     past the revolution); the loss over the two revolutions
 //!     together must pass 6 sigma_R (a difference of two tooth averages: the noise of one
 //!     `R`). Only with the last `2N` records not transient: as an exit fades over
 //!     revolutions each tooth's loss is the exit's (every loss credited let exits trip:
@@ -149,7 +157,8 @@
 //!     evidence, an exit having begun), the trip is armed at 0.3 of the tooth and 4
 //!     sigma_R less the loss already seen, at least 2 sigma_R: that pair happens by noise
 //!     about once in 10 000 teeth, and then this period must lose more (its reference, the period of
-//!     the loss, already lacks what the broken flute did not cut). The share is raised to
+//!     the loss, already lacks what the broken flute did not cut; the shares, as the plain
+//!     trip's, are of the force before that loss). The share is raised to
 //!     what an exit that begins in that period could take (one feed's travel past what
 //!     the newest tooth allows and the next flute's reach past that, a heavy flute's
 //!     longer, even where that passes the two-feed exit; without the noise term, but
@@ -640,6 +649,10 @@ pub struct AlarmState {
     /// ... and the share the whole period is judged against at its close
     /// (`Alarms::process_with`; `INFINITY`: not judged whole).
     trip_whole_share: f32,
+    /// What the next tooth's period a revolution ago, the trip's reference, lost against
+    /// the revolution before it, as a share of its force (negative: gained; the shares
+    /// above are of the force before that loss, `of_two_back`).
+    trip_credit: f32,
     /// The exit's loss share behind it, and the feed per tooth [mm] and `R_r` it is for
     /// (`R_r` -1: none valid).
     exit_share: f32,
@@ -716,6 +729,7 @@ impl Default for AlarmState {
             trip_quiet_n: f32::INFINITY,
             trip_share: TRIP_SHARE,
             trip_whole_share: f32::INFINITY,
+            trip_credit: 0.0,
             exit_share: 1.0,
             exit_key: (f32::NAN, f32::NAN),
             exit_wide: 0.0,
@@ -996,6 +1010,22 @@ const fn ones(k: usize) -> u64 {
     }
 }
 
+/// A drop trip's `share` of a tooth's force two revolutions back as a share of its
+/// reference period, the tooth's force a revolution back, where that period had lost
+/// `credit` of its own force against the revolution before it (negative: gained):
+/// `share` of the force before the loss, less the loss. A flute broken inside that period
+/// left it lighter, and its next pass loses less against it than the share an exit's
+/// reach sets for the whole tooth; an exit begun there took its part of the same whole.
+/// (An infinite share stays so.)
+#[inline(always)]
+fn of_two_back(share: f32, credit: f32) -> f32 {
+    if share.is_finite() {
+        share - (1.0 - share) * credit
+    } else {
+        share
+    }
+}
+
 /// Whether the pair's gain `r0` stands above what an exit would leave the gaining
 /// tooth by [`EVIDENCE_EXIT_SIGMAS`] of `R` (`var_r`): `r0 + s F_next`, the loss `r1`
 /// as a share `s = -r1 / F_lost` of the losing tooth's force a revolution earlier
@@ -1031,6 +1061,17 @@ impl AlarmState {
     /// close (`INFINITY`: not judged whole; see [`crate::handover::Handover::arm_trip`]).
     pub fn trip_whole_share(&self) -> f32 {
         self.trip_whole_share
+    }
+
+    /// [`Self::trip_share`] and [`Self::trip_whole_share`] as shares of the trip's
+    /// reference, the next tooth's period a revolution ago, which the hand-over stage
+    /// measures: less what that period had lost against the revolution before it, where
+    /// the arming counted it (a flute broken inside it; `of_two_back`).
+    pub fn trip_shares_of_reference(&self) -> (f32, f32) {
+        (
+            of_two_back(self.trip_share, self.trip_credit),
+            of_two_back(self.trip_whole_share, self.trip_credit),
+        )
     }
 
     /// The hand-over stage's measure of the cut's span
@@ -1598,25 +1639,36 @@ impl Alarms {
                     // goes unflagged for revolutions at a time (seed 1786 normal 30).
                     // (The pair first: the flags' count on nearly every tooth costs 20
                     // instructions of the tooth update, measured under QEMU.)
+                    // After the history was forgotten out of a steady cut (`resumed`: a
+                    // moved window, a lost pulse) the revolutions that would show a flagged
+                    // loss's cut held are not armed yet: such a pair only raises at once,
+                    // as far past the noise as `pair_raises` asks, and leaves no evidence
+                    // (seed 13375 break 9: 4 flutes, a window moved 5 teeth before the
+                    // break, a pair of 20 sigma_R; the trip on the broken flute's next
+                    // pass came 1.04 revolutions after the first missed cut).
+                    let forgot = !prev_steady && st.resumed > 0 && !st.all_armed(self.armed_held);
                     if prev2_steady
                         && self.handed_over(st, r0, var, prev_steady)
                         && st.flagged(2, 4 * n) <= u32::from(prev_steady)
-                        && (prev_steady || st.all_armed(self.armed_held))
+                        && (prev_steady || st.all_armed(self.armed_held) || forgot)
                         && !self.fell_before_loss(st, var, prev_steady)
                     {
-                        st.handed = Some(st.tooth(1));
-                        st.handed_recut = false;
-                        st.handed_loss_n = st.force(n + 1) - st.force(1);
-                        let pair = r0 + st.handed_loss_n;
-                        st.handed_strong = pair * pair
-                            > EVIDENCE_STRONG_SIGMAS * EVIDENCE_STRONG_SIGMAS * 0.5 * var;
+                        let loss_n = st.force(n + 1) - st.force(1);
+                        let pair = r0 + loss_n;
                         // Far past the noise it is decided at once: its gain may end a
                         // revolution after the break, and the trip that waits for the
                         // broken flute's next pass has nothing to find where the flute
                         // broke before its own window (seed 9102 break 113: a pair of 9.6,
                         // raised 2 revolutions late).
-                        let sides = (r0, st.handed_loss_n);
-                        if let Some(t) = self.pair_raises(st, rec, sides, (var, measured)) {
+                        let raises = self.pair_raises(st, rec, (r0, loss_n), (var, measured));
+                        if !forgot {
+                            st.handed = Some(st.tooth(1));
+                            st.handed_recut = false;
+                            st.handed_loss_n = loss_n;
+                            st.handed_strong = pair * pair
+                                > EVIDENCE_STRONG_SIGMAS * EVIDENCE_STRONG_SIGMAS * 0.5 * var;
+                        }
+                        if let Some(t) = raises {
                             raise_one_rev(pair, t);
                         }
                     }
@@ -1869,8 +1921,9 @@ impl Alarms {
                         lost += 1;
                     }
                     let lost_since = lost.saturating_sub(1);
+                    let credit = if before_handed { 0.0 } else { st.handed_loss_n };
                     self.trip_share(st, rec.tc_mm, sigma_r, 0.0, Some(lost_since), 0.0)
-                        .map(|(share, whole)| (share, floor, whole))
+                        .map(|(share, whole)| (share, floor, whole, credit))
                 } else if let Some(run_lost) = if fresh {
                     Some(0.0)
                 } else {
@@ -1922,18 +1975,19 @@ impl Alarms {
                             // tooth 2.3 sigma_R up on the last flat revolution of an exit, then
                             // the exit's step).
                             let raised = two_revs && -lost > EVIDENCE_EACH_SIGMAS * sigma_r;
-                            let floor = FIRST_TOOTH_SIGMAS * sigma_r
-                                - if credited || raised { lost } else { 0.0 };
+                            let lost = if credited || raised { lost } else { 0.0 };
+                            let floor = FIRST_TOOTH_SIGMAS * sigma_r - lost;
                             (
                                 share,
                                 crate::fmath::max(floor, EVIDENCE_MIN_SIGMAS * sigma_r),
                                 whole,
+                                lost,
                             )
                         })
                 } else {
                     None
                 };
-                if let Some((share, floor, whole)) = armed {
+                if let Some((share, floor, whole, lost)) = armed {
                     // The floors are in the resultant's noise; the trip measures the
                     // tangential channel, whose own noise can be wider (seed 3723 normal
                     // 34: an exit's tail, the resultant's sigma_R 15.8 N against that
@@ -1947,6 +2001,10 @@ impl Alarms {
                     };
                     st.trip_share = share;
                     st.trip_whole_share = whole;
+                    // The shares are of the tooth two revolutions back where its period a
+                    // revolution ago, the reference, lost (`of_two_back`).
+                    let back = st.force(n - 1);
+                    st.trip_credit = if back > 0.0 { lost / back } else { 0.0 };
                 }
             }
         }
@@ -4314,6 +4372,43 @@ mod tests {
         assert!((floor / s - FIRST_TOOTH_SIGMAS).abs() < 0.3, "{floor} {s}");
     }
 
+    /// Where the next tooth's period a revolution ago, the trip's reference, lost past 1.5
+    /// sigma_R (a flute broken inside it), the trip's shares are of the tooth's force two
+    /// revolutions back, less that loss, as the hand-over stage measures against the
+    /// reference: `(s 100 - l) / (100 - l)` for a tooth of 100 N that lost `l` (its noise, 3
+    /// N, moves that by under 0.01). The plain trip's, after a gain the other way; the
+    /// evidence's too (the handed tooth's loss); not under 1.5 sigma_R (4 N), where the
+    /// reference is the tooth's level to the noise.
+    #[test]
+    fn the_trip_counts_from_two_revolutions_back_where_its_reference_lost() {
+        let of_reference = |after: &[f32], l: f32| {
+            let (st, events) = armed_after(after, None);
+            assert_eq!(events, 0, "{after:?}");
+            assert!(st.trip_floor_n().is_finite(), "{after:?}");
+            let (share, whole) = st.trip_shares_of_reference();
+            let want = |s: f32| (s * 100.0 - l) / (100.0 - l);
+            assert!(
+                (share - want(st.trip_share())).abs() < 0.01,
+                "{after:?}: {share} against {} of {}",
+                want(st.trip_share()),
+                st.trip_share()
+            );
+            if whole.is_finite() {
+                assert!((whole - want(st.trip_whole_share())).abs() < 0.01);
+            }
+            (share, st.trip_share())
+        };
+        for l in [12.0, -12.0] {
+            let (share, plain) = of_reference(&[0.0, -l, 0.0, 0.0, 0.0], l);
+            assert_eq!(share < plain, l > 0.0, "{l}: {share} {plain}");
+        }
+        let (share, evidence) = of_reference(&[0.0, -12.0, 24.0, 0.0, 0.0], 12.0);
+        assert_eq!(evidence, EVIDENCE_SHARE);
+        assert!(share < evidence);
+        let (st, _) = armed_after(&[0.0, -4.0, 0.0, 0.0, 0.0], None);
+        assert_eq!(st.trip_shares_of_reference().0, st.trip_share());
+    }
+
     /// The loss the handed tooth took a revolution ago counts toward its trip's floor
     /// (`4 sigma_R` less that loss, at least `2 sigma_R`): that period is the trip's
     /// reference, and a flute broken inside it left less there to lose. Not after a newest
@@ -5237,6 +5332,68 @@ mod tests {
         );
         let steady = forces(3.0, 11, &[]);
         assert_eq!(first_latch(&steady, usize::MAX), (None, None));
+    }
+
+    /// A steady cut whose window moved at record 160 (the period after it flagged for its
+    /// length too), then, 7 teeth on, a tooth that lost `pair` N (its record flagged
+    /// transient if `flagged`) and the next that gained as much, once. Each record's first
+    /// event (index, cause) and the drop trip's floor after it.
+    fn pair_after_move(pair: f32, flagged: bool) -> (Option<(usize, Cause)>, Vec<f32>) {
+        // (Four flutes alike at 200 N and `k` at half of it: `E`'s rules, at three times
+        // `k F` or both signs past it, and the first tooth's, at 35 % of the tooth, leave
+        // the pair to its own rule.)
+        let mut cfg = AlarmConfig::default();
+        cfg.breakage.threshold_rel = 0.5;
+        let a = cfg.build(&EstimatorConfig::default()).unwrap();
+        let (forget, loss) = (160, 168);
+        let mut f = forces_at([200.0; 4], 3.0, 40, &[0.0; 16]);
+        f[loss] -= pair;
+        f[loss + 1] += pair;
+        let mut st = AlarmState::default();
+        let (mut event, mut floors) = (None, Vec::new());
+        for (i, &fx) in f.iter().enumerate() {
+            let status = match i {
+                _ if i == forget => Status::WINDOW_MOVED | Status::PERIOD_INVALID,
+                _ if i == forget + 1 => Status::PERIOD_INVALID,
+                _ if i == loss && flagged => Status::AMBIGUOUS | Status::TRANSIENT,
+                _ => Status::AMBIGUOUS,
+            };
+            let out = a.process(&mut st, &record(i, fx, status));
+            if let (None, Some(e)) = (event, out.event) {
+                event = Some((i, e.cause));
+            }
+            floors.push(st.trip_floor_n());
+        }
+        (event, floors)
+    }
+
+    /// A hand-over pair right after a moved window: a flagged loss counts only out of a
+    /// cut whose revolutions before it held, not armed yet there, so it raises where it is
+    /// as far past the noise and the threshold `k F` as `pair_raises` asks (60 N each
+    /// side, 120 against 100; seed 13375 break 9 waited for the trip on the broken flute's
+    /// next pass), as an unflagged one does, and a flagged one under that arms nothing (40
+    /// N each side: the plain trip's floor, 6 sigma_R, where the unflagged pair arms the
+    /// evidence's 4 less the loss).
+    #[test]
+    fn a_flagged_pair_just_after_a_move_raises_only_far_past_the_noise() {
+        for flagged in [false, true] {
+            assert_eq!(
+                pair_after_move(60.0, flagged).0,
+                Some((169, Cause::Breakage)),
+                "flagged {flagged}"
+            );
+        }
+        let (event, plain) = pair_after_move(40.0, true);
+        assert_eq!(event, None);
+        let (event, evidence) = pair_after_move(40.0, false);
+        assert_eq!(event, None);
+        // The handed tooth's next period is armed by the record before it (171).
+        assert!(
+            evidence[171] < 0.8 * plain[171],
+            "{} against {}",
+            evidence[171],
+            plain[171]
+        );
     }
 
     /// A steady cut whose tooth history is forgotten at record `forget` (the window moved;

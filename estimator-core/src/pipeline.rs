@@ -150,13 +150,14 @@ impl Pipeline {
             (recut, var_t, quiet, &moved),
             probe,
         );
+        let (share, whole) = st.alarms.trip_shares_of_reference();
         self.monitor.arm_trip(
             &mut st.monitor,
             &st.last,
-            st.alarms.trip_share(),
+            share,
             st.alarms.trip_floor_n(),
             st.alarms.trip_quiet_n(),
-            st.alarms.trip_whole_share(),
+            whole,
         );
         // The span measured after this record, for the alarms at the next. (Stored here,
         // after `rec` is moved: a store before it had the record built aside and copied,
