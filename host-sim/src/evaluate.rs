@@ -3155,33 +3155,45 @@ mod held_out_tests {
         caught_with_no_false_alarm(Kind::Break, 22, 8800, 8);
     }
 
-    /// Flutes broken inside the window their next pass is judged against (seeds 12998
-    /// break 2 and 13081 break 119: 4 flutes, `R_r` 1.57 down and 1.45 up milling, 3 978
-    /// and 3 548 rpm): that window, the trip's reference, lost the rest of the flute's
-    /// chip, and the next pass lost the trip's share of the force two revolutions back but
-    /// not of the lighter reference: 1.32 and 1.06 revolutions after the first missed cut.
-    /// The shares are now of the force before that loss. Each case at its own noise seed
-    /// within a revolution, and over 16 noise seeds each at most 3 of the 32 runs late (7
-    /// before). Found at seeds 12993-13088, after the rules had been set.
+    /// Flutes broken inside the window their next pass is judged against (seed 12998
+    /// break 2: 4 flutes, `R_r` 1.57, down milling, 3 978 rpm; seed 13285 break 26 with no
+    /// current-loop lag: 4 flutes, `R_r` 1.50, down milling, 3 824 rpm): that window, the
+    /// trip's reference, lost the rest of the flute's chip, and the next pass lost the
+    /// trip's share of the force two revolutions back but not of the lighter reference:
+    /// 1.32 and 1.23 revolutions after the first missed cut. The plain trip's shares are
+    /// now of the force before that loss. Each at its own noise seed within a revolution,
+    /// and 12998's over 16 noise seeds at most 1 late (3 before). Found at seeds
+    /// 12993-13088 and 13281-13376, after the rules had been set.
     #[test]
     fn a_trip_whose_reference_lost_the_rest_of_the_chip_counts_from_before_it() {
-        let cases = [(2, 12998), (119, 13081)];
-        each_drawn_within_a_revolution(&cases);
-        let late: Vec<String> = cases
-            .iter()
-            .flat_map(|&(index, seed)| {
-                outcomes_over_noise(Kind::Break, index, seed, 16)
-                    .into_iter()
-                    .filter(|(_, o)| !o.detected_after_onset_s().is_some_and(|l| l <= o.rev_s))
-                    .map(move |(noise, o)| {
-                        format!(
-                            "seed {seed} break {index} noise {noise}: {:?}",
-                            o.first_alarm
-                        )
-                    })
-            })
+        each_drawn_within_a_revolution(&[(2, 12998)]);
+        let late: Vec<String> = outcomes_over_noise(Kind::Break, 2, 12998, 16)
+            .into_iter()
+            .filter(|(_, o)| !o.detected_after_onset_s().is_some_and(|l| l <= o.rev_s))
+            .map(|(noise, o)| format!("noise {noise}: {:?}", o.first_alarm))
             .collect();
-        assert!(late.len() <= 3, "{late:#?}");
+        assert!(late.len() <= 1, "{late:#?}");
+        let no_lag = Setup {
+            lag_s: Some(0.0),
+            ..Setup::default()
+        };
+        let (_, out) = outcomes_over_noise_in(no_lag, Kind::Break, 26, 13285, 1)
+            .pop()
+            .expect("a run");
+        let l = out.detected_after_onset_s().expect("caught");
+        assert!(l <= out.rev_s, "{:.2} revolutions", l / out.rev_s);
+    }
+
+    /// A noise pair, then an exit (seed 13203, normal case 51, with no current-loop lag: 3
+    /// flutes, `R_r` 1.12, 515 N): one tooth 93 N down, 41 N of it its period two
+    /// revolutions back standing high by noise, the next 26 N up; the evidence armed the
+    /// handed tooth's trip, and the exit's first period there lost 81 N. Taken from two
+    /// revolutions back, as the plain trip's shares are, the evidence's share was 0.20 of
+    /// the reference and tripped; it stays the share of the reference (0.34). Over 16
+    /// noise seeds. Found at seeds 13185-13280 with the shares from two back everywhere.
+    #[test]
+    fn a_noise_pairs_evidence_keeps_its_share_of_the_reference() {
+        no_alarm_without_lag(Kind::Normal, 51, 13203);
     }
 
     /// A flute broken 5 teeth after the window moved (seed 13375, break case 9: 4 flutes,
