@@ -1647,11 +1647,11 @@ impl Alarms {
                     // (seed 13375 break 9: 4 flutes, a window moved 5 teeth before the
                     // break, a pair of 20 sigma_R; the trip on the broken flute's next
                     // pass came 1.04 revolutions after the first missed cut).
-                    let forgot = !prev_steady && st.resumed > 0 && !st.all_armed(self.armed_held);
+                    let held = prev_steady || st.all_armed(self.armed_held);
                     if prev2_steady
                         && self.handed_over(st, r0, var, prev_steady)
                         && st.flagged(2, 4 * n) <= u32::from(prev_steady)
-                        && (prev_steady || st.all_armed(self.armed_held) || forgot)
+                        && (held || st.resumed > 0)
                         && !self.fell_before_loss(st, var, prev_steady)
                     {
                         let loss_n = st.force(n + 1) - st.force(1);
@@ -1662,7 +1662,7 @@ impl Alarms {
                         // broke before its own window (seed 9102 break 113: a pair of 9.6,
                         // raised 2 revolutions late).
                         let raises = self.pair_raises(st, rec, (r0, loss_n), (var, measured));
-                        if !forgot {
+                        if held {
                             st.handed = Some(st.tooth(1));
                             st.handed_recut = false;
                             st.handed_loss_n = loss_n;

@@ -1813,11 +1813,15 @@ mod held_out_tests {
 
     /// `no_alarm_over_noise_in` over 16 noise seeds with no current-loop lag (`--lag-s 0`).
     fn no_alarm_without_lag(kind: Kind, index: usize, seed: u64) {
-        let no_lag = Setup {
+        no_alarm_over_noise_in(no_lag(), kind, index, seed, 16);
+    }
+
+    /// The cases and the monitor without the current-loop lag (`--lag-s 0`).
+    fn no_lag() -> Setup {
+        Setup {
             lag_s: Some(0.0),
             ..Setup::default()
-        };
-        no_alarm_over_noise_in(no_lag, kind, index, seed, 16);
+        }
     }
 
     /// `kind` case `index` at draw seed `seed` over `seeds` noise seeds
@@ -3169,21 +3173,10 @@ mod held_out_tests {
     #[test]
     fn a_trip_whose_reference_lost_the_rest_of_the_chip_counts_from_before_it() {
         each_drawn_within_a_revolution(&[(2, 12998)]);
-        let late: Vec<String> = outcomes_over_noise(Kind::Break, 2, 12998, 16)
-            .into_iter()
-            .filter(|(_, o)| !o.detected_after_onset_s().is_some_and(|l| l <= o.rev_s))
-            .map(|(noise, o)| format!("noise {noise}: {:?}", o.first_alarm))
-            .collect();
+        let late = late_after_onset_in(Setup::default(), 2, 12998, 16);
         assert!(late.len() <= 1, "{late:#?}");
-        let no_lag = Setup {
-            lag_s: Some(0.0),
-            ..Setup::default()
-        };
-        let (_, out) = outcomes_over_noise_in(no_lag, Kind::Break, 26, 13285, 1)
-            .pop()
-            .expect("a run");
-        let l = out.detected_after_onset_s().expect("caught");
-        assert!(l <= out.rev_s, "{:.2} revolutions", l / out.rev_s);
+        let late = late_after_onset_in(no_lag(), 26, 13285, 1);
+        assert!(late.is_empty(), "{late:#?}");
     }
 
     /// A noise pair, then an exit (seed 13203, normal case 51, with no current-loop lag: 3
