@@ -218,7 +218,10 @@
 //!   revolution mean); with 2 flutes, on a cut within a pitch at the steady feed, one tooth
 //!   below the floor after one that lost past [`GONE_BEFORE_SIGMAS`] (the tool lost inside
 //!   that tooth's cut: the second empty tooth would come a revolution later; a broken
-//!   flute's empty window follows the other flute's gain). An exit from the part lowers the
+//!   flute's empty window follows the other flute's gain). There, after a tooth that lost
+//!   less, the empty tooth latches the output and the records after name its cause, as
+//!   they name a drop trip's (a lost tool late in that tooth's cut, or a flute broken at
+//!   its cut's start: either stops the machine). An exit from the part lowers the
 //!   force over revolutions first; a lost tool does not ("steady" excludes a revolution
 //!   mean already falling by more than 10 % a revolution, and at most two good teeth
 //!   since the last steady record may carry force over the floor: a fast exit, a few
@@ -1407,12 +1410,13 @@ impl Alarms {
         // unchanged window where it broke at its cut's start; a feed turned down leaves a
         // light flute under runout idle and the heavy one lower, not at the steady feed.
         // (With more flutes the two dead teeth come within the revolution.)
-        let lost_in_before = n == 2
+        let one_dead = n == 2
             && dead
             && newest_collapsed
             && st.exit_wide <= 0.0
             && !rec.status.contains(Status::FEED_CHANGE)
-            && libm::fabsf(rec.tc_mm - st.steady_tc_mm) <= 0.05 * st.steady_tc_mm
+            && libm::fabsf(rec.tc_mm - st.steady_tc_mm) <= 0.05 * st.steady_tc_mm;
+        let lost_in_before = one_dead
             && back1 > f1
             && self.decision_var(st, back1).is_some_and(|var| {
                 (back1 - f1) * (back1 - f1) > GONE_BEFORE_SIGMAS * GONE_BEFORE_SIGMAS * 0.5 * var
@@ -2063,6 +2067,27 @@ impl Alarms {
         {
             raise(Cause::ToolGone, f, self.est.force_floor_n);
             st.held = None;
+        } else if self.cfg.tool_gone.enabled
+            && one_dead
+            && back0 >= floor
+            && raised_cell.get().is_none()
+            && self.gone_candidate(st, rec, true)
+        {
+            // The newest dead after a tooth that lost under GONE_BEFORE_SIGMAS: a tool
+            // lost late in that tooth's cut, whose second empty window comes a revolution
+            // after the first (seeds 13378 gone 7, 13381 gone 15 and 13387 gone 16: the
+            // tooth before 4.4, 3.2 and 3.4 sigma_R down, named 1.16-1.23 revolutions
+            // after the first missed cut), or a flute broken at its cut's start. Either
+            // stops the machine: the output latches now, and the records after name the
+            // cause as they name a drop trip's (the other flute's window empty: a lost
+            // tool; its gain: a breakage).
+            Self::pend(
+                st,
+                back0 - f0,
+                (1.0 - GONE_SHARE) * back0,
+                rec.end_sample,
+                TRIP_NAMED_WITHIN + 1,
+            );
         }
 
         probe.mark(Stage::AlarmToolGone);
@@ -2223,11 +2248,19 @@ impl Alarms {
     #[cold]
     #[inline(never)]
     pub fn trip(&self, st: &mut AlarmState, lost: f32, limit: f32, sample: u64) {
+        Self::pend(st, lost, limit, sample, TRIP_NAMED_WITHIN);
+    }
+
+    /// Latches the output at `sample` unless it is already, its cause named on the
+    /// `left` records from this one on (a trip's: those after it).
+    #[cold]
+    #[inline(never)]
+    fn pend(st: &mut AlarmState, lost: f32, limit: f32, sample: u64, left: u8) {
         if st.latched.is_none() && st.trip.is_none() {
             st.trip = Some(Trip {
                 lost_n: lost,
                 limit_n: limit,
-                left: TRIP_NAMED_WITHIN,
+                left,
                 sample,
             });
         }
@@ -5620,8 +5653,18 @@ mod tests {
         a: &Alarms,
         sigma: f32,
         len: usize,
-        mut make: impl FnMut(usize, f32) -> ToothRecord,
+        make: impl FnMut(usize, f32) -> ToothRecord,
     ) -> Option<(usize, Cause)> {
+        first_latch_2_flutes(a, sigma, len, make).map(|(_, named, cause)| (named, cause))
+    }
+
+    /// ... the record the output latched at, the one that named its cause, and the cause.
+    fn first_latch_2_flutes(
+        a: &Alarms,
+        sigma: f32,
+        len: usize,
+        mut make: impl FnMut(usize, f32) -> ToothRecord,
+    ) -> Option<(usize, usize, Cause)> {
         let mut noise = forces(sigma, 30, &[]).into_iter();
         let mut st = AlarmState::default();
         for i in 0..len {
@@ -5629,7 +5672,10 @@ mod tests {
             let mut rec = make(i, e);
             rec.tooth = (i % 2) as u8;
             if let Some(e) = a.process(&mut st, &rec).event {
-                return Some((i, e.cause));
+                // (The record the output latched at: an empty window's is named on a
+                // later one.)
+                let latched = (e.latched_sample / rec.samples.max(1) as u64) as usize;
+                return Some((latched.saturating_sub(1), i, e.cause));
             }
         }
         None
@@ -5667,7 +5713,9 @@ mod tests {
             })
         };
         assert_eq!(first(250), Some((83, Cause::Breakage)));
-        assert_eq!(first(240), None);
+        // (Its empty window at the steady feed latched the output a record earlier, and no
+        // rule named it: a breakage three records on.)
+        assert_eq!(first(240), Some((85, Cause::Breakage)));
         // The other order, a gain on the tooth before and a loss on the newest, is no
         // flute's chip handed on: two flutes of 310 N, one 62 N up by noise, then the tool
         // lost inside the other's window, 98 N down (seed 10632 gone 10, its pair 20 %
@@ -5722,18 +5770,20 @@ mod tests {
     /// the next one is empty (both flagged transient, as the monitor flags them). A lost
     /// tool on that first empty window, not a revolution later where the second comes
     /// (seeds 10018 gone 3 and 28: 49 % and 59 % left, then nothing). A window that lost
-    /// under `GONE_BEFORE_SIGMAS` waits for the second. The same empty window after the
-    /// other flute's gain is a broken flute's, and after its unchanged window where the
-    /// flute broke at its cut's start, 3 sigma_R down by noise (seed 10123 break 48); and
-    /// a feed turned down, the light flute under runout idle and the heavy one lower, is
-    /// no lost tool (the same forces at the steady feed would be one).
+    /// under `GONE_BEFORE_SIGMAS` latches the output there too, named a lost tool on the
+    /// second (seeds 13378 gone 7, 13381 gone 15 and 13387 gone 16 waited for it). The
+    /// same empty window after the other flute's gain is a broken flute's, and after its
+    /// unchanged window where the flute broke at its cut's start, 3 sigma_R down by noise
+    /// (seed 10123 break 48), latched there and named on the gain; and a feed turned
+    /// down, the light flute under runout idle and the heavy one lower, is no lost tool
+    /// (the same forces at the steady feed would be one).
     #[test]
     fn with_two_flutes_a_tool_lost_inside_a_cut_is_named_on_the_first_empty_window() {
         let a = alarms_2_flutes(30.0);
         // `after(i, level)`: record i's force from record 79 on; `tc_mm` from 80 on.
         let first = |levels: [f32; 2], after: &dyn Fn(usize, f32) -> f32, tc_mm: f32| {
             let mut before = 0.0;
-            first_event_2_flutes(&a, 3.0, 100, |i, e| {
+            first_latch_2_flutes(&a, 3.0, 100, |i, e| {
                 let level = levels[i % 2];
                 let f = if i < 79 {
                     level + e
@@ -5765,11 +5815,14 @@ mod tests {
         for kept in [0.5, 0.85] {
             assert_eq!(
                 first(levels, &lost(kept), 0.2),
-                Some((81, Cause::ToolGone)),
+                Some((81, 81, Cause::ToolGone)),
                 "{kept}"
             );
         }
-        assert_eq!(first(levels, &lost(0.95), 0.2), Some((82, Cause::ToolGone)));
+        assert_eq!(
+            first(levels, &lost(0.95), 0.2),
+            Some((81, 82, Cause::ToolGone))
+        );
         // Flute 0 broken half way through its cut: flute 1 takes the rest of its chip,
         // then the whole of it; flute 0's windows are empty. Or broken at its cut's start,
         // flute 1's window before 9 N down.
@@ -5783,13 +5836,16 @@ mod tests {
                 _ => level + 230.0,
             }
         };
-        for start in [false, true] {
-            let named = first(levels, &broken(start), 0.2);
-            assert!(
-                named.is_some_and(|(_, c)| c == Cause::Breakage),
-                "{start} {named:?}"
-            );
-        }
+        // (Broken at its cut's start, its empty window at the steady feed latched the
+        // output, named on the gain after it.)
+        assert_eq!(
+            first(levels, &broken(false), 0.2),
+            Some((81, 81, Cause::Breakage))
+        );
+        assert_eq!(
+            first(levels, &broken(true), 0.2),
+            Some((80, 81, Cause::Breakage))
+        );
         // The feed halved: the light flute (100 N) idle, the heavy one 40 % down (the
         // force the feed leaves still well over the floor).
         let halved = |i: usize, level: f32| match i {
@@ -5800,7 +5856,7 @@ mod tests {
         assert_eq!(first([500.0, 100.0], &halved, 0.1), None);
         assert_eq!(
             first([500.0, 100.0], &halved, 0.2),
-            Some((81, Cause::ToolGone))
+            Some((81, 81, Cause::ToolGone))
         );
     }
 

@@ -2598,6 +2598,20 @@ mod held_out_tests {
         caught_with_no_false_alarm(Kind::Break, 48, 10123, 8);
     }
 
+    /// 2-flute tools lost late in a tooth's cut (seeds 13378 gone 7, 13381 gone 15 and
+    /// 13387 gone 16: 2 flutes, that window 4.4, 3.2 and 3.4 sigma_R down, under
+    /// `GONE_BEFORE_SIGMAS`): the first empty window latches the output, the second names
+    /// the lost tool, within a revolution of the damage (1.16-1.23 revolutions after the
+    /// first missed cut before, on the second empty window). Over 8 noise seeds each.
+    /// Found at seeds 13377-13388, after the rules had been set.
+    #[test]
+    fn a_two_flute_tool_lost_late_in_a_cut_latches_on_its_first_empty_window() {
+        for (index, seed) in [(7, 13378), (15, 13381), (16, 13387)] {
+            let late = late_of_kind_over_noise(Kind::Gone, index, seed, 8);
+            assert!(late.is_empty(), "gone {index} at seed {seed}: {late:#?}");
+        }
+    }
+
     /// Light flutes of 2-flute tools under runout broken inside their cuts (seed 10573
     /// break 21: 64 N beside 285 N after a feed cut, `t_c` 0.09 mm; seed 8798 break 110):
     /// the loss and the other flute's gain each split over two revolutions, no
