@@ -218,10 +218,11 @@
 //!   revolution mean); with 2 flutes, on a cut within a pitch at the steady feed, one tooth
 //!   below the floor after one that lost past [`GONE_BEFORE_SIGMAS`] (the tool lost inside
 //!   that tooth's cut: the second empty tooth would come a revolution later; a broken
-//!   flute's empty window follows the other flute's gain). There, after a tooth that lost
-//!   less, the empty tooth latches the output and the records after name its cause, as
-//!   they name a drop trip's (a lost tool late in that tooth's cut, or a flute broken at
-//!   its cut's start: either stops the machine). An exit from the part lowers the
+//!   flute's empty window follows the other flute's gain). Any other empty tooth there
+//!   (any number of flutes) latches the output and the records after name its cause, as
+//!   they name a drop trip's (a lost tool late in the tooth before's cut, a flute broken
+//!   at its cut's start, a light flute's first loss too small to arm the trip: each
+//!   stops the machine). An exit from the part lowers the
 //!   force over revolutions first; a lost tool does not ("steady" excludes a revolution
 //!   mean already falling by more than 10 % a revolution, and at most two good teeth
 //!   since the last steady record may carry force over the floor: a fast exit, a few
@@ -1402,21 +1403,22 @@ impl Alarms {
         // runout larger than the chip leaves flutes in a row idle at a low feed, every
         // revolution (a feed override turned down).
         let floor = self.est.force_floor_n;
-        // Or, with 2 flutes on a cut within a pitch, the newest dead and the tooth before
-        // down on its own past the noise, at the steady cut's feed: the tooth the tool
-        // was lost in keeps part of its force, and the second dead tooth would come a
-        // revolution after the first (seed 10018 gone 28: 59 % left, then nothing). A
-        // broken flute's window goes dead after the other flute's gain, or after its
-        // unchanged window where it broke at its cut's start; a feed turned down leaves a
-        // light flute under runout idle and the heavy one lower, not at the steady feed.
-        // (With more flutes the two dead teeth come within the revolution.)
-        let one_dead = n == 2
-            && dead
+        // The newest dead on a cut within a pitch at the steady cut's feed (`one_dead`: a
+        // flute that cut nothing, see the tool-gone stage). Or, with 2 flutes, that and
+        // the tooth before down on its own past the noise: the tooth the tool was lost in
+        // keeps part of its force, and the second dead tooth would come a revolution after
+        // the first (seed 10018 gone 28: 59 % left, then nothing). A broken flute's window
+        // goes dead after the other flute's gain, or after its unchanged window where it
+        // broke at its cut's start; a feed turned down leaves a light flute under runout
+        // idle and the heavy one lower, not at the steady feed. (With more flutes the two
+        // dead teeth come within the revolution.)
+        let one_dead = dead
             && newest_collapsed
             && st.exit_wide <= 0.0
             && !rec.status.contains(Status::FEED_CHANGE)
             && libm::fabsf(rec.tc_mm - st.steady_tc_mm) <= 0.05 * st.steady_tc_mm;
-        let lost_in_before = one_dead
+        let lost_in_before = n == 2
+            && one_dead
             && back1 > f1
             && self.decision_var(st, back1).is_some_and(|var| {
                 (back1 - f1) * (back1 - f1) > GONE_BEFORE_SIGMAS * GONE_BEFORE_SIGMAS * 0.5 * var
@@ -2073,14 +2075,17 @@ impl Alarms {
             && raised_cell.get().is_none()
             && self.gone_candidate(st, rec, true)
         {
-            // The newest dead after a tooth that lost under GONE_BEFORE_SIGMAS: a tool
-            // lost late in that tooth's cut, whose second empty window comes a revolution
-            // after the first (seeds 13378 gone 7, 13381 gone 15 and 13387 gone 16: the
-            // tooth before 4.4, 3.2 and 3.4 sigma_R down, named 1.16-1.23 revolutions
-            // after the first missed cut), or a flute broken at its cut's start. Either
-            // stops the machine: the output latches now, and the records after name the
-            // cause as they name a drop trip's (the other flute's window empty: a lost
-            // tool; its gain: a breakage).
+            // The newest dead, not yet named: with 2 flutes after a tooth that lost under
+            // GONE_BEFORE_SIGMAS, a tool lost late in that tooth's cut, whose second empty
+            // window comes a revolution after the first (seeds 13378 gone 7, 13381 gone
+            // 15 and 13387 gone 16: the tooth before 4.4, 3.2 and 3.4 sigma_R down, named
+            // 1.16-1.23 revolutions after the first missed cut); or a flute broken at its
+            // cut's start, or a light flute whose first missed cut took too little to arm
+            // the drop trip on its next pass (seeds 13291 break 117, 2 flutes, 70 N beside
+            // 253; 13076 break 107, 3 flutes, 38 N beside 126 and 185). Either stops the
+            // machine: the output latches now, and the records after name the cause as
+            // they name a drop trip's (the next window empty too: a lost tool; its gain:
+            // a breakage).
             Self::pend(
                 st,
                 back0 - f0,
@@ -3426,8 +3431,10 @@ mod tests {
                 latch = Some(i);
             }
             if let (None, Some(e)) = (event, out.event) {
-                // Raised by a record's rules: latched at its last sample.
-                assert_eq!(e.latched_sample, e.record.end_sample);
+                // Raised by a record's rules: latched at the last sample of the record the
+                // output latched at (this one, or an empty tooth's before it).
+                let latched = latch.map(|k| 250 * (k as u64 + 1));
+                assert_eq!(Some(e.latched_sample), latched);
                 event = Some((i, (e.record.end_sample / 250 - 1) as usize, e.cause));
             }
         }
@@ -5321,13 +5328,22 @@ mod tests {
 
     /// A flute lost between its engagements: its next period loses its whole force (tooth
     /// 1: -100 N), the tooth after takes the chip (+100 N): decided on the gain, the drop
-    /// alone is not (the first tooth of an exit through a face drops as much). Steady
-    /// runout and noise, and an exit's fall, never latch.
+    /// alone is not (the first tooth of an exit through a face drops as much) unless it
+    /// leaves the tooth empty at the steady feed, which latches the output at once (an
+    /// exit takes a share of the arc a feed of travel reaches, far under the whole).
+    /// Steady runout and noise, and an exit's fall, never latch.
     #[test]
     fn a_lost_flute_is_decided_on_the_tooth_that_takes_its_chip() {
         let steady = forces(3.0, 40, &[0.0; 16]);
         assert_eq!(first_latch(&steady, usize::MAX), (None, None));
         let broken = [0.0, -100.0, 100.0, 0.0];
+        let f = forces(3.0, 40, &[broken, broken].concat());
+        assert_eq!(
+            first_latch(&f, usize::MAX),
+            (Some(161), Some((162, 162, Cause::Breakage)))
+        );
+        // (Not empty, 90 N down: decided on the gain.)
+        let broken = [0.0, -90.0, 90.0, 0.0];
         let f = forces(3.0, 40, &[broken, broken].concat());
         assert_eq!(
             first_latch(&f, usize::MAX),
@@ -5366,9 +5382,10 @@ mod tests {
     fn a_flute_lost_in_the_first_revolutions_of_a_cut_is_caught() {
         let broken = [0.0, -100.0, 100.0, 0.0];
         let f = forces(3.0, 7, &[broken, broken, broken, broken].concat());
+        // (Its empty period latches the output: see the test above.)
         assert_eq!(
             first_latch(&f, usize::MAX),
-            (Some(30), Some((30, 30, Cause::Breakage)))
+            (Some(29), Some((30, 30, Cause::Breakage)))
         );
         let steady = forces(3.0, 11, &[]);
         assert_eq!(first_latch(&steady, usize::MAX), (None, None));
