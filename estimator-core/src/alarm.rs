@@ -1403,8 +1403,9 @@ impl Alarms {
         // runout larger than the chip leaves flutes in a row idle at a low feed, every
         // revolution (a feed override turned down).
         let floor = self.est.force_floor_n;
-        // The newest dead on a cut within a pitch at the steady cut's feed (`one_dead`: a
-        // flute that cut nothing, see the tool-gone stage). Or, with 2 flutes, that and
+        // The newest dead on a cut within a pitch at the steady cut's feed, over the floor a
+        // revolution earlier (`one_dead`: a flute that cut nothing, see the tool-gone
+        // stage). Or, with 2 flutes, that and
         // the tooth before down on its own past the noise: the tooth the tool was lost in
         // keeps part of its force, and the second dead tooth would come a revolution after
         // the first (seed 10018 gone 28: 59 % left, then nothing). A broken flute's window
@@ -1414,6 +1415,7 @@ impl Alarms {
         // dead teeth come within the revolution.)
         let one_dead = dead
             && newest_collapsed
+            && back0 >= floor
             && st.exit_wide <= 0.0
             && !rec.status.contains(Status::FEED_CHANGE)
             && libm::fabsf(rec.tc_mm - st.steady_tc_mm) <= 0.05 * st.steady_tc_mm;
@@ -2069,12 +2071,7 @@ impl Alarms {
         {
             raise(Cause::ToolGone, f, self.est.force_floor_n);
             st.held = None;
-        } else if self.cfg.tool_gone.enabled
-            && one_dead
-            && back0 >= floor
-            && raised_cell.get().is_none()
-            && self.gone_candidate(st, rec, true)
-        {
+        } else if self.cfg.tool_gone.enabled && one_dead && self.gone_candidate(st, rec, true) {
             // The newest dead, not yet named: with 2 flutes after a tooth that lost under
             // GONE_BEFORE_SIGMAS, a tool lost late in that tooth's cut, whose second empty
             // window comes a revolution after the first (seeds 13378 gone 7, 13381 gone
@@ -5689,9 +5686,9 @@ mod tests {
             let mut rec = make(i, e);
             rec.tooth = (i % 2) as u8;
             if let Some(e) = a.process(&mut st, &rec).event {
-                // (The record the output latched at: an empty window's is named on a
-                // later one.)
-                let latched = (e.latched_sample / rec.samples.max(1) as u64) as usize;
+                // (The record the output latched at, `record`'s 250 samples each: an
+                // empty window's is named on a later one.)
+                let latched = (e.latched_sample / 250) as usize;
                 return Some((latched.saturating_sub(1), i, e.cause));
             }
         }
