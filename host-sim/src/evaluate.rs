@@ -2627,11 +2627,7 @@ mod held_out_tests {
     #[test]
     fn a_light_flutes_empty_window_latches_within_the_revolution() {
         for (index, seed, most) in [(117, 13291, 0), (107, 13076, 1)] {
-            let outs = outcomes_over_noise(Kind::Break, index, seed, 8);
-            let late: Vec<_> = outs
-                .iter()
-                .filter(|(_, out)| !out.detected_after_onset_s().is_some_and(|l| l <= out.rev_s))
-                .collect();
+            let late = late_runs_after_onset_in(Setup::default(), index, seed, 8);
             assert!(
                 late.len() <= most,
                 "break {index} at seed {seed}: {late:#?}"
@@ -2712,10 +2708,22 @@ mod held_out_tests {
     /// up as `setup`: the runs whose alarm was not within a revolution of the first missed
     /// cut (the goal's measure).
     fn late_after_onset_in(setup: Setup, index: usize, seed: u64, seeds: u64) -> Vec<String> {
+        late_runs_after_onset_in(setup, index, seed, seeds)
+            .into_iter()
+            .map(|(noise, out)| format!("noise seed {noise}: {:?}", out.first_alarm))
+            .collect()
+    }
+
+    /// ... those runs' outcomes.
+    fn late_runs_after_onset_in(
+        setup: Setup,
+        index: usize,
+        seed: u64,
+        seeds: u64,
+    ) -> Vec<(u64, Outcome)> {
         outcomes_over_noise_in(setup, Kind::Break, index, seed, seeds)
             .into_iter()
             .filter(|(_, out)| !out.detected_after_onset_s().is_some_and(|l| l <= out.rev_s))
-            .map(|(noise, out)| format!("noise seed {noise}: {:?}", out.first_alarm))
             .collect()
     }
 
