@@ -186,7 +186,10 @@ enum Command {
         /// full breakage missed or later than a revolution named by seed, set and index
         /// (with how far it stood above the noise by the deadline: the separation in sigma
         /// of the best detector told in advance how the forces would change, on every
-        /// sample and on the tooth periods' sums).
+        /// sample and on the tooth periods' sums; and how far from the nearest normal cut,
+        /// the same cut leaving the work through a face wherever it lies, the exits the
+        /// alarms must not take for a break: a break far from every exit is one a better
+        /// rule could catch, one near an exit none can without false alarms).
         #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..=100_000))]
         seeds: u64,
         /// Worker threads.
@@ -229,7 +232,8 @@ enum Command {
         /// Trace one case instead of running the sets: `KIND:INDEX` as the goal's list
         /// names it ("seed 10794 break 16" is `--seed 10794 --case break:16`). Prints the
         /// case, its cut at the damage (the true R_r, R_a and t_c), what came of it (for a
-        /// damage, its separation by the deadline as in the goal's list), and its tooth
+        /// damage, its separation by the deadline and from the nearest exit as in the
+        /// goal's list), and its tooth
         /// records around the damage (or the first alarm):
         /// forces measured and true, flutes intact, estimate, the hand-over inside the
         /// period (`ho_z`, sigma), the drop trip armed for the next period, status and
@@ -439,7 +443,18 @@ fn trace_cmd(
             (a.unwrap_or(f64::INFINITY), b.unwrap_or(f64::NEG_INFINITY))
         }
     };
-    print!("{}", evaluate::format_trace(&c, &outcome, &records, window));
+    let text = evaluate::format_trace(&c, &outcome, &records, window);
+    let exit = evaluate::nearest_exit(&c, &outcome, &records)?;
+    // After the verdict (the third line), the nearest exit's separations.
+    for (i, line) in text.lines().enumerate() {
+        println!("{line}");
+        if let (2, Some(e)) = (i, exit) {
+            println!(
+                "{}",
+                evaluate::nearest_exit_text(&e, outcome.onset_s.unwrap_or(0.0), outcome.rev_s)
+            );
+        }
+    }
     Ok(())
 }
 
@@ -465,7 +480,16 @@ fn evaluate_cmd(
         }
     }
     println!("{}", evaluate::report(&fig));
-    let exceptions = evaluate::exceptions(&outcomes);
+    // (Each late or missed break run again, its nearest exit searched: seconds each.)
+    let nearest = |o: &evaluate::Outcome| match evaluate::nearest_exit_drawn(o, setup) {
+        Ok(Some(e)) => format!(
+            "; {}",
+            evaluate::nearest_exit_text(&e, o.onset_s.unwrap_or(0.0), o.rev_s)
+        ),
+        Ok(None) => String::new(),
+        Err(e) => format!("; no nearest exit: {e}"),
+    };
+    let exceptions = evaluate::exceptions(&outcomes, nearest);
     if !exceptions.is_empty() {
         println!("Against the goal (false alarms; full breakages missed or late):\n\n{exceptions}");
     }
