@@ -898,20 +898,27 @@ fn nearest_exit_of(
     Ok(best)
 }
 
-/// [`nearest_exit`] of the case `o` came from, drawn again and run with `setup`.
-pub fn nearest_exit_drawn(o: &Outcome, setup: Setup) -> Result<Option<NearestExit>> {
-    let mut case = draw_case(o.kind, o.index, o.seed)?;
-    setup.apply(&mut case);
-    let (outcome, records) = trace_case(&case)?;
-    nearest_exit(&case, &outcome, &records)
+/// [`nearest_exit`] of the case `o` came from, drawn again and run with `setup`, as the
+/// goal's list appends it to the case's line (empty where there is none).
+pub fn nearest_exit_note(o: &Outcome, setup: Setup) -> String {
+    let found = draw_case(o.kind, o.index, o.seed).and_then(|mut case| {
+        setup.apply(&mut case);
+        let (outcome, records) = trace_case(&case)?;
+        nearest_exit(&case, &outcome, &records)
+    });
+    match found {
+        Ok(Some(e)) => format!("; {}", nearest_exit_text(&e, o)),
+        Ok(None) => String::new(),
+        Err(e) => format!("; no nearest exit: {e}"),
+    }
 }
 
-/// A [`NearestExit`] in words, its times in revolutions (`rev_s`) from the damage's
-/// onset `onset_s`, as the trace prints it.
-pub fn nearest_exit_text(e: &NearestExit, onset_s: f64, rev_s: f64) -> String {
+/// A [`NearestExit`] in words, its times in revolutions from the onset of `o`'s damage.
+pub fn nearest_exit_text(e: &NearestExit, o: &Outcome) -> String {
+    let onset_s = o.onset_s.unwrap_or(0.0);
     let from = |t: Option<f64>| {
         t.map_or("no exit".to_string(), |t| {
-            format!("an exit from {:+.2} revolutions", (t - onset_s) / rev_s)
+            format!("an exit from {:+.2} revolutions", (t - onset_s) / o.rev_s)
         })
     };
     format!(
@@ -1064,12 +1071,13 @@ fn engagement_at(sc: &Scenario, t_s: f64) -> Option<(f64, f64, f64)> {
     (rpm > 0.0 && r > 0.0).then(|| (dr / r, da / r, feed / (rpm * n)))
 }
 
-/// A traced case as text: what it is, its cut at the damage, what came of it, and its
-/// records from `from_s` to `to_s`, a line each.
+/// A traced case as text: what it is, its cut at the damage, what came of it (with its
+/// nearest exit, `exit`, where given), and its records from `from_s` to `to_s`, a line each.
 pub fn format_trace(
     case: &Case,
     outcome: &Outcome,
     records: &[TracedRecord],
+    exit: Option<&NearestExit>,
     (from_s, to_s): (f64, f64),
 ) -> String {
     let sc = &case.scenario;
@@ -1114,6 +1122,9 @@ pub fn format_trace(
         verdict(outcome),
         separation_text(outcome)
     );
+    if let Some(e) = exit {
+        let _ = writeln!(s, "{}", nearest_exit_text(e, outcome));
+    }
     let _ = writeln!(
         s,
         "\n{:>9} {:>5} {:>4} {:>8} {:>8} {:>8} {:>8} {:>6} {:>6} {:>7} {:>6} {:>8} {:>5} {:>5}  status, alarm",
@@ -1310,8 +1321,8 @@ pub fn evaluate(
 /// The cases behind the goal's shortfalls, a line each: every false alarm, and every full
 /// breakage missed or caught later than one revolution of its first missed cut (with how
 /// late), so that a run over many seeds names each case to trace (`draw_case(kind, index,
-/// seed)` reproduces it), `nearest` appended to a breakage's line (the trace's
-/// [`nearest_exit_text`], where the caller can redraw the case: [`nearest_exit_drawn`]).
+/// seed)` reproduces it), `nearest` appended to a breakage's line (the nearest exit,
+/// where the caller can redraw the case: [`nearest_exit_note`]).
 pub fn exceptions(outcomes: &[Outcome], nearest: impl Fn(&Outcome) -> String) -> String {
     let mut s = String::new();
     for o in outcomes {
@@ -1883,8 +1894,9 @@ mod tests {
         {
             s[1] = path[at] + reach;
         }
-        let (_, records) = trace_case(&exiting).expect("traced");
+        let (mut told_o, records) = trace_case(&exiting).expect("traced");
         let onset = at as f64 / fs;
+        (told_o.onset_s, told_o.rev_s) = (Some(onset), rev_s);
         let told = (drawn.noise_n(), t, onset, rev_s);
         let e = nearest_exit_of(&exiting.scenario, &clean, told, &records).expect("ran");
         assert!(
@@ -1901,12 +1913,12 @@ mod tests {
         let same = nearest_exit_of(&clean, &clean, told, &records).expect("ran");
         assert_eq!(same.samples_from_s, None, "{same:?}");
         assert_eq!(same.separation.samples, 0.0, "{same:?}");
-        let said = nearest_exit_text(&same, onset, rev_s);
+        let said = nearest_exit_text(&same, &told_o);
         assert!(
             said.contains("no exit on the samples, 0.0 sigma away"),
             "{said}"
         );
-        let said = nearest_exit_text(&e, onset, rev_s);
+        let said = nearest_exit_text(&e, &told_o);
         assert!(said.contains(": an exit from "), "{said}");
         // A real break: no nearer than the undamaged run, and more than noise away; a
         // normal case has none.
@@ -1979,7 +1991,7 @@ mod tests {
         let case = draw_case(Kind::Break, 0, 1).expect("a break case");
         let (outcome, traced) = trace_case(&case).expect("traced");
         let window = trace_window(&outcome).expect("a damage");
-        let text = format_trace(&case, &outcome, &traced, window);
+        let text = format_trace(&case, &outcome, &traced, None, window);
         let fs = f64::from(case.machine.monitor.sample_rate_hz);
         let shown = traced
             .iter()

@@ -443,18 +443,11 @@ fn trace_cmd(
             (a.unwrap_or(f64::INFINITY), b.unwrap_or(f64::NEG_INFINITY))
         }
     };
-    let text = evaluate::format_trace(&c, &outcome, &records, window);
     let exit = evaluate::nearest_exit(&c, &outcome, &records)?;
-    // After the verdict (the third line), the nearest exit's separations.
-    for (i, line) in text.lines().enumerate() {
-        println!("{line}");
-        if let (2, Some(e)) = (i, exit) {
-            println!(
-                "{}",
-                evaluate::nearest_exit_text(&e, outcome.onset_s.unwrap_or(0.0), outcome.rev_s)
-            );
-        }
-    }
+    print!(
+        "{}",
+        evaluate::format_trace(&c, &outcome, &records, exit.as_ref(), window)
+    );
     Ok(())
 }
 
@@ -481,15 +474,7 @@ fn evaluate_cmd(
     }
     println!("{}", evaluate::report(&fig));
     // (Each late or missed break run again, its nearest exit searched: seconds each.)
-    let nearest = |o: &evaluate::Outcome| match evaluate::nearest_exit_drawn(o, setup) {
-        Ok(Some(e)) => format!(
-            "; {}",
-            evaluate::nearest_exit_text(&e, o.onset_s.unwrap_or(0.0), o.rev_s)
-        ),
-        Ok(None) => String::new(),
-        Err(e) => format!("; no nearest exit: {e}"),
-    };
-    let exceptions = evaluate::exceptions(&outcomes, nearest);
+    let exceptions = evaluate::exceptions(&outcomes, |o| evaluate::nearest_exit_note(o, setup));
     if !exceptions.is_empty() {
         println!("Against the goal (false alarms; full breakages missed or late):\n\n{exceptions}");
     }
